@@ -1,0 +1,1 @@
+"""Liquid models. Knows nothing of particles: takes points, returns pressure at them."""

@@ -1,0 +1,307 @@
+"""numba kernels of the particle membrane (hot loops; compiled once, cached on disk).
+
+All kernels work on flat row-major structured grids: node (i, j) of an N x N grid has index
+i*N + j; ``pos`` is (n, 3) float64 in m and is updated in place where stated.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+JIT = dict(cache=True, nogil=True, fastmath=False)
+
+
+@njit(**JIT)
+def _tangent(pos, n, i, j, along_j):
+    """d pos / d(index) at node (i, j): central inside, second-order one-sided at the border.
+
+    This is MATLAB ``surfnorm``'s rule (quadratic extrapolation past the border, then a central
+    difference), written out.
+    """
+    out = np.empty(3)
+    if along_j:
+        k0 = i * n + j
+        if j == 0:
+            for c in range(3):
+                out[c] = 0.5 * (-3.0 * pos[k0, c] + 4.0 * pos[k0 + 1, c] - pos[k0 + 2, c])
+        elif j == n - 1:
+            for c in range(3):
+                out[c] = 0.5 * (3.0 * pos[k0, c] - 4.0 * pos[k0 - 1, c] + pos[k0 - 2, c])
+        else:
+            for c in range(3):
+                out[c] = 0.5 * (pos[k0 + 1, c] - pos[k0 - 1, c])
+    else:
+        k0 = i * n + j
+        if i == 0:
+            for c in range(3):
+                out[c] = 0.5 * (-3.0 * pos[k0, c] + 4.0 * pos[k0 + n, c] - pos[k0 + 2 * n, c])
+        elif i == n - 1:
+            for c in range(3):
+                out[c] = 0.5 * (3.0 * pos[k0, c] - 4.0 * pos[k0 - n, c] + pos[k0 - 2 * n, c])
+        else:
+            for c in range(3):
+                out[c] = 0.5 * (pos[k0 + n, c] - pos[k0 - n, c])
+    return out
+
+
+@njit(**JIT)
+def node_area_and_normal(pos, n, sign):
+    """Node areas (App. D) and unit node normals (surfnorm rule, times ``sign``).
+
+    Returns ``node_area`` (n*n,) m^2: a quarter of each adjacent quad's area, the quad area being
+    the two triangles split along the (i,j)-(i+1,j+1) diagonal; and ``node_normal`` (n*n, 3).
+    """
+    nn = n * n
+    area = np.zeros(nn)
+    for i in range(n - 1):
+        for j in range(n - 1):
+            k = i * n + j
+            p1 = pos[k]
+            a = pos[k + 1] - p1
+            b = pos[k + n] - p1
+            c = pos[k + n + 1] - p1
+            ac = np.array([a[1] * c[2] - a[2] * c[1], a[2] * c[0] - a[0] * c[2],
+                           a[0] * c[1] - a[1] * c[0]])
+            bc = np.array([b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
+                           b[0] * c[1] - b[1] * c[0]])
+            q = 0.125 * (np.sqrt(ac @ ac) + np.sqrt(bc @ bc))
+            area[k] += q
+            area[k + 1] += q
+            area[k + n] += q
+            area[k + n + 1] += q
+    normal = np.empty((nn, 3))
+    for i in range(n):
+        for j in range(n):
+            tj = _tangent(pos, n, i, j, True)
+            ti = _tangent(pos, n, i, j, False)
+            c0 = tj[1] * ti[2] - tj[2] * ti[1]
+            c1 = tj[2] * ti[0] - tj[0] * ti[2]
+            c2 = tj[0] * ti[1] - tj[1] * ti[0]
+            s = sign / max(np.sqrt(c0 * c0 + c1 * c1 + c2 * c2), 1e-300)
+            k = i * n + j
+            normal[k, 0] = c0 * s
+            normal[k, 1] = c1 * s
+            normal[k, 2] = c2 * s
+    return area, normal
+
+
+@njit(**JIT)
+def bending_force(pos, normal, bend_nodes, bend_rest, bend_k, force):
+    """Add the thesis bending-spring forces (App. F) to ``force`` (n, 3) N.
+
+    For each triple (P1, Pm, P2) the sagitta d = sqrt((L_B/2)^2 - (|P2-P1|/2)^2) (0 when the chord
+    is longer than at rest) gives a force K_eq d on the middle node along its normal, pointing
+    back towards the chord.  Returns the largest K_eq d (N).
+    """
+    fmax = 0.0
+    for s in range(bend_nodes.shape[0]):
+        a, m, b = bend_nodes[s, 0], bend_nodes[s, 1], bend_nodes[s, 2]
+        dx = pos[b, 0] - pos[a, 0]
+        dy = pos[b, 1] - pos[a, 1]
+        dz = pos[b, 2] - pos[a, 2]
+        half_chord2 = 0.25 * (dx * dx + dy * dy + dz * dz)
+        d2 = 0.25 * bend_rest[s] ** 2 - half_chord2
+        if d2 <= 0.0:
+            continue
+        d = np.sqrt(d2)
+        # (Pm - Pc) . N < 0  -> middle node on the -N side -> push along +N (App. F's sign test)
+        u = 0.0
+        for c in range(3):
+            u += (pos[m, c] - 0.5 * (pos[a, c] + pos[b, c])) * normal[m, c]
+        f = bend_k[s] * d if u < 0.0 else -bend_k[s] * d
+        for c in range(3):
+            force[m, c] += f * normal[m, c]
+        if abs(f) > fmax:
+            fmax = abs(f)
+    return fmax
+
+
+@njit(**JIT)
+def _relax_family(pos, inv_mass, nodes, rest, lo, hi, delta):
+    """One Jacobi pass over one spring family (App. G/H); returns sum |L - L0| before it (m)."""
+    err = 0.0
+    for s in range(lo, hi):
+        a, b = nodes[s, 0], nodes[s, 1]
+        wa, wb = inv_mass[a], inv_mass[b]
+        dx = pos[b, 0] - pos[a, 0]
+        dy = pos[b, 1] - pos[a, 1]
+        dz = pos[b, 2] - pos[a, 2]
+        length = np.sqrt(dx * dx + dy * dy + dz * dz)
+        if wa + wb == 0.0:
+            continue
+        err += abs(length - rest[s])
+        if length == 0.0:
+            continue
+        g = (length - rest[s]) / (length * (wa + wb))
+        delta[a, 0] += dx * g * wa
+        delta[a, 1] += dy * g * wa
+        delta[a, 2] += dz * g * wa
+        delta[b, 0] -= dx * g * wb
+        delta[b, 1] -= dy * g * wb
+        delta[b, 2] -= dz * g * wb
+    for s in range(lo, hi):
+        for k in (nodes[s, 0], nodes[s, 1]):
+            for c in range(3):
+                pos[k, c] += delta[k, c]
+                delta[k, c] = 0.0
+    return err
+
+
+@njit(**JIT)
+def limit_in_plane_strain(pos, inv_mass, nodes, rest, family_start, total_rest, error_limit,
+                          max_passes):
+    """App. G strain limiting, in place: passes over the four families until the thesis error
+    sum |L - L0| / sum L0 (measured as each family is relaxed) is below ``error_limit``
+    (a fraction, ErrorLimit/100).  At least one pass is made, as in App. G.
+
+    Returns (passes, error).  ``passes == max_passes`` with error above the limit means the
+    limit was not reached.
+    """
+    delta = np.zeros_like(pos)
+    passes = 0
+    error = np.inf
+    while error > error_limit and passes < max_passes:
+        passes += 1
+        e = 0.0
+        for f in range(family_start.size - 1):
+            e += _relax_family(pos, inv_mass, nodes, rest, family_start[f], family_start[f + 1],
+                               delta)
+        error = e / total_rest
+    return passes, error
+
+
+@njit(**JIT)
+def limit_bending(pos, inv_mass, bend_nodes, bend_rest, family_start, iterations):
+    """App. H bend limiting, in place: ``iterations`` Jacobi passes pulling each two-cell chord
+    (end nodes of a bending triple) to its rest length."""
+    pairs = np.empty((bend_nodes.shape[0], 2), dtype=np.int64)
+    pairs[:, 0] = bend_nodes[:, 0]
+    pairs[:, 1] = bend_nodes[:, 2]
+    delta = np.zeros_like(pos)
+    for _ in range(iterations):
+        for f in range(family_start.size - 1):
+            _relax_family(pos, inv_mass, pairs, bend_rest, family_start[f], family_start[f + 1],
+                          delta)
+
+
+@njit(**JIT)
+def wall_collision(pos, inv_mass, radius, slack):
+    """App. I ``ContainerCollisionCheck``, in place: a free node farther than slack*radius from
+    the tank centre is put back on the sphere of radius ``radius`` (m). Returns nodes moved."""
+    moved = 0
+    for k in range(pos.shape[0]):
+        if inv_mass[k] == 0.0:
+            continue
+        r = np.sqrt(pos[k, 0] ** 2 + pos[k, 1] ** 2 + pos[k, 2] ** 2)
+        if r > radius * slack:
+            for c in range(3):
+                pos[k, c] *= radius / r
+            moved += 1
+    return moved
+
+
+@njit(**JIT)
+def self_collision(pos, inv_mass, n, min_distance):
+    """App. I self-collision, in place, with a spatial hash instead of the O(n^2) loop.
+
+    Pairs of nodes closer than ``min_distance`` (m) that are not grid neighbours (the thesis's
+    six-neighbour exclusion) are pushed apart to ``min_distance``, the correction split by
+    inverse mass (fixed nodes do not move). Returns the number of pairs corrected.
+    """
+    nn = pos.shape[0]
+    table = 2 * nn
+    cell = np.empty((nn, 3), dtype=np.int64)
+    key = np.empty(nn, dtype=np.int64)
+    inv_h = 1.0 / min_distance
+    count = np.zeros(table + 1, dtype=np.int64)
+    for k in range(nn):
+        for c in range(3):
+            cell[k, c] = np.int64(np.floor(pos[k, c] * inv_h))
+        h = (cell[k, 0] * 92837111) ^ (cell[k, 1] * 689287499) ^ (cell[k, 2] * 283923481)
+        key[k] = abs(h) % table
+        count[key[k]] += 1
+    start = np.zeros(table + 1, dtype=np.int64)
+    for t in range(table):
+        start[t + 1] = start[t] + count[t]
+    fill = start.copy()
+    sorted_nodes = np.empty(nn, dtype=np.int64)
+    for k in range(nn):
+        sorted_nodes[fill[key[k]]] = k
+        fill[key[k]] += 1
+    delta = np.zeros_like(pos)
+    pairs = 0
+    d2min = min_distance * min_distance
+    for a in range(nn):
+        ia, ja = a // n, a % n
+        for ox in range(-1, 2):
+            for oy in range(-1, 2):
+                for oz in range(-1, 2):
+                    cx, cy, cz = cell[a, 0] + ox, cell[a, 1] + oy, cell[a, 2] + oz
+                    h = abs((cx * 92837111) ^ (cy * 689287499) ^ (cz * 283923481)) % table
+                    for q in range(start[h], start[h + 1]):
+                        b = sorted_nodes[q]
+                        if b <= a:
+                            continue
+                        di, dj = b // n - ia, b % n - ja
+                        if (di == 0 and abs(dj) <= 1) or (dj == 0 and abs(di) <= 1) or \
+                                (di == dj and abs(di) == 1):
+                            continue
+                        wa, wb = inv_mass[a], inv_mass[b]
+                        if wa + wb == 0.0:
+                            continue
+                        dx = pos[b, 0] - pos[a, 0]
+                        dy = pos[b, 1] - pos[a, 1]
+                        dz = pos[b, 2] - pos[a, 2]
+                        d2 = dx * dx + dy * dy + dz * dz
+                        if d2 >= d2min or d2 == 0.0:
+                            continue
+                        d = np.sqrt(d2)
+                        g = (d - min_distance) / (d * (wa + wb))
+                        delta[a, 0] += dx * g * wa
+                        delta[a, 1] += dy * g * wa
+                        delta[a, 2] += dz * g * wa
+                        delta[b, 0] -= dx * g * wb
+                        delta[b, 1] -= dy * g * wb
+                        delta[b, 2] -= dz * g * wb
+                        pairs += 1
+    for k in range(nn):
+        for c in range(3):
+            pos[k, c] += delta[k, c]
+    return pairs
+
+
+@njit(**JIT)
+def closed_volume_term(pos, faces, sign):
+    """sign * sum over triangles of zbar * A_xy (m^3): the membrane part of the divergence-theorem
+    volume integral of F = (0, 0, z), quads split along their first diagonal."""
+    v = 0.0
+    for f in range(faces.shape[0]):
+        for t in range(2):
+            a = faces[f, 0]
+            b = faces[f, 1 + t]
+            c = faces[f, 2 + t]
+            axy = 0.5 * ((pos[b, 0] - pos[a, 0]) * (pos[c, 1] - pos[a, 1])
+                         - (pos[c, 0] - pos[a, 0]) * (pos[b, 1] - pos[a, 1]))
+            v += (pos[a, 2] + pos[b, 2] + pos[c, 2]) / 3.0 * axy
+    return sign * v
+
+
+@njit(**JIT)
+def closed_volume_gradient(pos, faces, sign):
+    """Gradient (n, 3) m^2 of :func:`closed_volume_term` with respect to node positions."""
+    g = np.zeros_like(pos)
+    for f in range(faces.shape[0]):
+        for t in range(2):
+            tri = (faces[f, 0], faces[f, 1 + t], faces[f, 2 + t])
+            zbar = (pos[tri[0], 2] + pos[tri[1], 2] + pos[tri[2], 2]) / 3.0
+            axy = 0.5 * ((pos[tri[1], 0] - pos[tri[0], 0]) * (pos[tri[2], 1] - pos[tri[0], 1])
+                         - (pos[tri[2], 0] - pos[tri[0], 0]) * (pos[tri[1], 1] - pos[tri[0], 1]))
+            for r in range(3):
+                k = tri[r]
+                k1 = tri[(r + 1) % 3]
+                k2 = tri[(r + 2) % 3]
+                # d A_xy / d x_k = (y_k1 - y_k2)/2 ; d A_xy / d y_k = (x_k2 - x_k1)/2
+                g[k, 0] += sign * zbar * 0.5 * (pos[k1, 1] - pos[k2, 1])
+                g[k, 1] += sign * zbar * 0.5 * (pos[k2, 0] - pos[k1, 0])
+                g[k, 2] += sign * axy / 3.0
+    return g

@@ -1,0 +1,180 @@
+"""The thesis stepper (Levine 2014, App. B main loop), faithfully.
+
+One step:
+1. node areas (App. D) and normals (surfnorm rule) on the current shape;
+2. forces, Eqn 4.6: F = F_bend + A p n + m g - c v (bending springs of App. F, pressure
+   along node normals, gravity on free nodes, optional damping);
+3. explicit Euler: a = F/m (+ the measured acceleration when ``steady_state`` is off), v += a dt,
+   x += v dt;
+4. Courant check, Eqn 4.7: max |v| dt / L_node must stay below 1, else :class:`CourantError`;
+5. tank-wall collision, then ``constraint_iterations`` rounds of in-plane strain limiting
+   (App. G), bend limiting (App. H), self-collision (App. I), and the wall again.
+
+With ``steady_state`` on (the printed setting) the velocity is *not* corrected for the
+constraint moves; off, the step opens with the Verlet correction v = (x - x_prev)/dt,
+a = (v - v_prev)/dt as App. B does.  Damping modes: ``none`` (c = 0), ``critical``
+(c = 2 sqrt(m k), k the node's bending stiffness) and ``courant-drag`` (c = the node's Courant
+number of the previous step, which is what the printed code does because its Courant loop
+overwrites ``c``; see README).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .kernels import (bending_force, limit_bending, limit_in_plane_strain,
+                      node_area_and_normal, self_collision, wall_collision)
+from .model import MembraneModel, MembraneState
+
+DAMPING_MODES = ("none", "critical", "courant-drag")
+
+
+class CourantError(RuntimeError):
+    """Raised when a step's Courant number |v| dt / L_node exceeds 1 (thesis Eqn 4.7)."""
+
+
+@dataclass(frozen=True)
+class ConstraintSettings:
+    """Position constraints applied after each integration step.
+
+    error_limit : in-plane strain limit as a fraction (thesis ErrorLimit/100).
+    bend_limit_iterations : App. H passes (thesis BendDamping); 0 switches bend limiting off.
+    self_collision : App. I self-collision on/off.
+    collision_buffer : collision distance as a fraction of the shortest rest edge (Cbuffer).
+    constraint_iterations : rounds of the constraint sequence per step.
+    wall_slack : a free node is put back on the tank wall when |x| > wall_slack * R (1.001).
+    max_strain_passes : cap on App. G passes per call.
+    """
+
+    error_limit: float = 0.01
+    bend_limit_iterations: int = 10
+    self_collision: bool = False
+    collision_buffer: float = 1.0
+    constraint_iterations: int = 1
+    wall_slack: float = 1.001
+    max_strain_passes: int = 10_000
+
+
+def apply_constraints(model: MembraneModel, pos: np.ndarray, cs: ConstraintSettings) -> float:
+    """The App. B constraint sequence on ``pos`` (n, 3) m, in place; returns the last strain error."""
+    args = (model.node_inv_mass, model.spring_nodes, model.spring_rest_length,
+            model.spring_family_start, model.total_rest_length, cs.error_limit,
+            cs.max_strain_passes)
+    wall_collision(pos, model.node_inv_mass, model.radius, cs.wall_slack)
+    error = np.inf
+    for _ in range(cs.constraint_iterations):
+        _, error = limit_in_plane_strain(pos, *args)
+        if cs.bend_limit_iterations > 0:
+            limit_bending(pos, model.node_inv_mass, model.bend_nodes, model.bend_rest_length,
+                          model.bend_family_start, cs.bend_limit_iterations)
+            _, error = limit_in_plane_strain(pos, *args)
+        if cs.self_collision:
+            self_collision(pos, model.node_inv_mass, model.grid_size,
+                           cs.collision_buffer * model.min_rest_edge)
+            _, error = limit_in_plane_strain(pos, *args)
+        wall_collision(pos, model.node_inv_mass, model.radius, cs.wall_slack)
+    return error
+
+
+def external_force(model: MembraneModel, pos: np.ndarray, node_pressure: np.ndarray,
+                   body_acceleration: np.ndarray):
+    """Bending + pressure + gravity forces (n, 3) N on the current shape (Eqn 4.6 less damping).
+
+    Returns (force, node_area (n,) m^2, node_normal (n, 3))."""
+    area, normal = node_area_and_normal(pos, model.grid_size, model.normal_sign)
+    force = (area * node_pressure)[:, None] * normal
+    bending_force(pos, normal, model.bend_nodes, model.bend_rest_length, model.bend_stiffness,
+                  force)
+    free_mass = np.where(model.node_fixed, 0.0, model.node_mass)
+    force += free_mass[:, None] * np.asarray(body_acceleration, dtype=float)[None, :]
+    return force, area, normal
+
+
+@dataclass(frozen=True)
+class ThesisSettings:
+    """Settings of the thesis stepper (App. B names in brackets).
+
+    dt : time step (s) [dt]; steady_state : reset acceleration each step [SteadyState];
+    damping : one of DAMPING_MODES; constraints : :class:`ConstraintSettings`.
+    """
+
+    dt: float = 1e-4
+    steady_state: bool = True
+    damping: str = "courant-drag"
+    constraints: ConstraintSettings = field(default_factory=ConstraintSettings)
+
+    def __post_init__(self):
+        if self.damping not in DAMPING_MODES:
+            raise ValueError(f"damping must be one of {DAMPING_MODES}, got {self.damping!r}")
+        if not self.dt > 0:
+            raise ValueError(f"dt must be > 0 s, got {self.dt!r}")
+
+
+@dataclass
+class ThesisState(MembraneState):
+    """MembraneState plus what App. B carries between steps: previous position (n, 3) m,
+    previous velocity (n, 3) m/s, and the per-node damping coefficient (n,) kg/s."""
+
+    previous_position: np.ndarray = None  # type: ignore[assignment]
+    previous_velocity: np.ndarray = None  # type: ignore[assignment]
+    node_damping: np.ndarray = None  # type: ignore[assignment]
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.previous_position is None:
+            self.previous_position = self.node_position.copy()
+        if self.previous_velocity is None:
+            self.previous_velocity = self.node_velocity.copy()
+        if self.node_damping is None:
+            self.node_damping = np.zeros(self.node_position.shape[0])
+
+    def copy(self) -> "ThesisState":
+        return ThesisState(self.node_position.copy(), self.node_velocity.copy(),
+                           self.previous_position.copy(), self.previous_velocity.copy(),
+                           self.node_damping.copy())
+
+
+def node_bending_stiffness(model: MembraneModel) -> np.ndarray:
+    """Sum of K_eq (N/m) of the bending springs centred on each node, (n,)."""
+    k = np.zeros(model.n_nodes)
+    np.add.at(k, model.bend_nodes[:, 1], model.bend_stiffness)
+    return k
+
+
+def step(model: MembraneModel, state: ThesisState, node_pressure: np.ndarray,
+         body_acceleration, settings: ThesisSettings) -> ThesisState:
+    """Advance ``state`` by one thesis step under nodal pressure ``node_pressure`` (n,) Pa
+    (liquid side, gauge) and body acceleration (3,) m/s^2; returns the new state."""
+    dt = settings.dt
+    x = state.node_position.copy()
+    v = state.node_velocity.copy()
+    force, _, _ = external_force(model, x, node_pressure, body_acceleration)
+    if settings.steady_state:
+        acc = np.zeros_like(x)
+        prev_x, prev_v = state.previous_position, state.previous_velocity
+    else:
+        v = (x - state.previous_position) / dt
+        acc = (v - state.previous_velocity) / dt
+        prev_x, prev_v = x.copy(), v.copy()
+    if settings.damping == "critical":
+        c = 2.0 * np.sqrt(np.where(model.node_fixed, 0.0, model.node_mass)
+                          * node_bending_stiffness(model))
+    elif settings.damping == "courant-drag":
+        c = state.node_damping
+    else:
+        c = np.zeros(model.n_nodes)
+    force -= c[:, None] * v
+    acc += model.node_inv_mass[:, None] * force
+    v = v + acc * dt
+    x = x + v * dt
+    courant = np.linalg.norm(v, axis=1) * dt / model.node_length_scale
+    if not np.all(np.isfinite(courant)) or courant.max() > 1.0:
+        worst = int(np.nanargmax(np.where(np.isfinite(courant), courant, np.inf)))
+        raise CourantError(
+            f"Courant number {courant[worst]:.3g} > 1 at node {worst} (|v| = "
+            f"{np.linalg.norm(v[worst]):.3g} m/s, dt = {dt:g} s, L = "
+            f"{model.node_length_scale[worst]:.3g} m): reduce dt (thesis Eqn 4.7)")
+    apply_constraints(model, x, settings.constraints)
+    damping = courant if settings.damping == "courant-drag" else state.node_damping
+    return ThesisState(x, v, prev_x, prev_v, damping)

@@ -1,0 +1,91 @@
+"""Liquid volume enclosed between the lower tank wall and the membrane.
+
+With the rim on the equator, the divergence theorem with F = (0, 0, z) over the liquid region
+(bounded by the lower tank wall and the membrane) gives
+
+    V_liquid = (2/3) pi R^3 + sum over membrane triangles of zbar * A_xy,
+
+the triangle terms taken with normals pointing out of the liquid (Levine 2014, App. J computes
+the same sum, per quad). The formula holds for any non-self-intersecting membrane inside the
+tank, folded or not, and is exact for the faceted (triangulated) membrane.
+
+Fill fraction (documented in README): 0 is the rest shape, 1 its mirror image through the
+equator plane, i.e. the faceted membrane fully inverted:
+
+    phi = (V - V_empty) / (V_full - V_empty),
+    V_empty = V_liquid(rest) (the thin slivers between facets and wall, ~1e-3 of V_full),
+    V_full = V_liquid(mirrored rest shape).
+
+App. J instead divides by the volume of the final frame of a run, which hides a membrane that
+never fully inverted; the mirrored rest shape is what a full inversion must reach.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .kernels import closed_volume_gradient, closed_volume_term
+from .model import MembraneModel
+
+
+def lower_hemisphere_volume(radius: float) -> float:
+    """(2/3) pi R^3 (m^3)."""
+    return 2.0 / 3.0 * np.pi * radius**3
+
+
+def liquid_volume(model: MembraneModel, node_position: np.ndarray) -> float:
+    """Liquid volume (m^3) below the membrane at ``node_position`` (n, 3) m."""
+    return lower_hemisphere_volume(model.radius) + closed_volume_term(
+        node_position, model.face_nodes, model.volume_sign)
+
+
+def liquid_volume_gradient(model: MembraneModel, node_position: np.ndarray) -> np.ndarray:
+    """d V_liquid / d node_position, (n, 3) m^2."""
+    return closed_volume_gradient(node_position, model.face_nodes, model.volume_sign)
+
+
+def mirrored_rest_position(model: MembraneModel) -> np.ndarray:
+    """Rest shape mirrored through z = 0 (the fully inverted membrane), (n, 3) m."""
+    p = model.node_rest_position.copy()
+    p[:, 2] *= -1.0
+    return p
+
+
+class FillScale:
+    """Maps liquid volume (m^3) to fill fraction (-) and back, for one model."""
+
+    def __init__(self, model: MembraneModel):
+        self.empty_volume = liquid_volume(model, model.node_rest_position)
+        self.full_volume = liquid_volume(model, mirrored_rest_position(model))
+        if not self.full_volume > self.empty_volume:
+            raise ValueError("membrane rest shape encloses no volume: is it a hemisphere?")
+
+    def volume(self, fill_fraction):
+        """Liquid volume (m^3) at fill fraction ``fill_fraction`` (-)."""
+        return self.empty_volume + np.asarray(fill_fraction) * (self.full_volume - self.empty_volume)
+
+    def fill(self, volume):
+        """Fill fraction (-) of liquid volume ``volume`` (m^3)."""
+        return (np.asarray(volume) - self.empty_volume) / (self.full_volume - self.empty_volume)
+
+
+def project_volume(model: MembraneModel, node_position: np.ndarray, target: float,
+                   newton_iterations: int = 4) -> float:
+    """Move free nodes along W grad V so that V_liquid = ``target`` (m^3), in place.
+
+    W is the inverse node mass, so the move is the least-mass-weighted change that meets the
+    constraint (a position-based-dynamics volume constraint). Returns the multiplier lambda
+    (kg/m) of ``dx = lambda W grad V``; lambda / dt^2 is the uniform pressure (Pa) the move
+    stands for.
+    """
+    base = node_position.copy()
+    direction = model.node_inv_mass[:, None] * liquid_volume_gradient(model, base)
+    lam = 0.0
+    for _ in range(newton_iterations):
+        trial = base + lam * direction
+        residual = liquid_volume(model, trial) - target
+        slope = float(np.sum(liquid_volume_gradient(model, trial) * direction))
+        if slope == 0.0:
+            break
+        lam -= residual / slope
+    node_position[:] = base + lam * direction
+    return lam
