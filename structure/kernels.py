@@ -117,39 +117,53 @@ def bending_force(pos, normal, bend_nodes, bend_rest, bend_k, force):
 
 
 @njit(**JIT)
-def _relax_family(pos, inv_mass, nodes, rest, lo, hi, delta):
-    """One Jacobi pass over one spring family (App. G/H); returns sum |L - L0| before it (m)."""
+def _relax_family(pos, inv_mass, nodes, rest, lo, hi, delta, gauss_seidel):
+    """One pass over one spring family (App. G/H); returns sum |L - L0| before it (m).
+
+    ``gauss_seidel`` False is the thesis's Jacobi pass (every spring of the family sees the
+    positions before the pass); True applies each correction at once (Gauss-Seidel), which
+    damps the alternating mode that a Jacobi pass leaves undamped.
+    """
     err = 0.0
     for s in range(lo, hi):
         a, b = nodes[s, 0], nodes[s, 1]
         wa, wb = inv_mass[a], inv_mass[b]
+        if wa + wb == 0.0:
+            continue
         dx = pos[b, 0] - pos[a, 0]
         dy = pos[b, 1] - pos[a, 1]
         dz = pos[b, 2] - pos[a, 2]
         length = np.sqrt(dx * dx + dy * dy + dz * dz)
-        if wa + wb == 0.0:
-            continue
         err += abs(length - rest[s])
         if length == 0.0:
             continue
         g = (length - rest[s]) / (length * (wa + wb))
-        delta[a, 0] += dx * g * wa
-        delta[a, 1] += dy * g * wa
-        delta[a, 2] += dz * g * wa
-        delta[b, 0] -= dx * g * wb
-        delta[b, 1] -= dy * g * wb
-        delta[b, 2] -= dz * g * wb
-    for s in range(lo, hi):
-        for k in (nodes[s, 0], nodes[s, 1]):
-            for c in range(3):
-                pos[k, c] += delta[k, c]
-                delta[k, c] = 0.0
+        if gauss_seidel:
+            pos[a, 0] += dx * g * wa
+            pos[a, 1] += dy * g * wa
+            pos[a, 2] += dz * g * wa
+            pos[b, 0] -= dx * g * wb
+            pos[b, 1] -= dy * g * wb
+            pos[b, 2] -= dz * g * wb
+        else:
+            delta[a, 0] += dx * g * wa
+            delta[a, 1] += dy * g * wa
+            delta[a, 2] += dz * g * wa
+            delta[b, 0] -= dx * g * wb
+            delta[b, 1] -= dy * g * wb
+            delta[b, 2] -= dz * g * wb
+    if not gauss_seidel:
+        for s in range(lo, hi):
+            for k in (nodes[s, 0], nodes[s, 1]):
+                for c in range(3):
+                    pos[k, c] += delta[k, c]
+                    delta[k, c] = 0.0
     return err
 
 
 @njit(**JIT)
 def limit_in_plane_strain(pos, inv_mass, nodes, rest, family_start, total_rest, error_limit,
-                          max_passes):
+                          max_passes, gauss_seidel):
     """App. G strain limiting, in place: passes over the four families until the thesis error
     sum |L - L0| / sum L0 (measured as each family is relaxed) is below ``error_limit``
     (a fraction, ErrorLimit/100).  At least one pass is made, as in App. G.
@@ -165,13 +179,13 @@ def limit_in_plane_strain(pos, inv_mass, nodes, rest, family_start, total_rest, 
         e = 0.0
         for f in range(family_start.size - 1):
             e += _relax_family(pos, inv_mass, nodes, rest, family_start[f], family_start[f + 1],
-                               delta)
+                               delta, gauss_seidel)
         error = e / total_rest
     return passes, error
 
 
 @njit(**JIT)
-def limit_bending(pos, inv_mass, bend_nodes, bend_rest, family_start, iterations):
+def limit_bending(pos, inv_mass, bend_nodes, bend_rest, family_start, iterations, gauss_seidel):
     """App. H bend limiting, in place: ``iterations`` Jacobi passes pulling each two-cell chord
     (end nodes of a bending triple) to its rest length."""
     pairs = np.empty((bend_nodes.shape[0], 2), dtype=np.int64)
@@ -181,7 +195,7 @@ def limit_bending(pos, inv_mass, bend_nodes, bend_rest, family_start, iterations
     for _ in range(iterations):
         for f in range(family_start.size - 1):
             _relax_family(pos, inv_mass, pairs, bend_rest, family_start[f], family_start[f + 1],
-                          delta)
+                          delta, gauss_seidel)
 
 
 @njit(**JIT)

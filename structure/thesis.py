@@ -45,6 +45,8 @@ class ConstraintSettings:
     constraint_iterations : rounds of the constraint sequence per step.
     wall_slack : a free node is put back on the tank wall when |x| > wall_slack * R (1.001).
     max_strain_passes : cap on App. G passes per call.
+    gauss_seidel : relax springs one after another (True) instead of the thesis's Jacobi pass
+        per family (False); see :func:`structure.kernels._relax_family`.
     """
 
     error_limit: float = 0.01
@@ -54,20 +56,21 @@ class ConstraintSettings:
     constraint_iterations: int = 1
     wall_slack: float = 1.001
     max_strain_passes: int = 10_000
+    gauss_seidel: bool = False
 
 
 def apply_constraints(model: MembraneModel, pos: np.ndarray, cs: ConstraintSettings) -> float:
     """The App. B constraint sequence on ``pos`` (n, 3) m, in place; returns the last strain error."""
     args = (model.node_inv_mass, model.spring_nodes, model.spring_rest_length,
             model.spring_family_start, model.total_rest_length, cs.error_limit,
-            cs.max_strain_passes)
+            cs.max_strain_passes, cs.gauss_seidel)
     wall_collision(pos, model.node_inv_mass, model.radius, cs.wall_slack)
     error = np.inf
     for _ in range(cs.constraint_iterations):
         _, error = limit_in_plane_strain(pos, *args)
         if cs.bend_limit_iterations > 0:
             limit_bending(pos, model.node_inv_mass, model.bend_nodes, model.bend_rest_length,
-                          model.bend_family_start, cs.bend_limit_iterations)
+                          model.bend_family_start, cs.bend_limit_iterations, cs.gauss_seidel)
             _, error = limit_in_plane_strain(pos, *args)
         if cs.self_collision:
             self_collision(pos, model.node_inv_mass, model.grid_size,
