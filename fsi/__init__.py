@@ -1,0 +1,1 @@
+"""The application: scenes, runner, output, analysis, plots and CLI."""

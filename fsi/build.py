@@ -1,0 +1,85 @@
+"""Turn a validated scene into solver objects: membrane Model, liquid, settings.
+
+Also the a-priori time-step check: before a run, the first-step Courant number (thesis Eqn 4.7)
+under the largest load the run can apply must stay below 1,
+
+    C0 = dt^2 (p_max / (rho_m t) + |b|) / L_min < 1,
+
+with p_max = rho_l |b| (h_max + R) the largest hydrostatic pressure on the membrane. This is a
+necessary condition only: the stepper still checks the Courant number every step.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from fluid.hydrostatic import HydrostaticLiquid
+from structure.model import Material, MembraneModel, hemisphere_model
+from structure.statics import RelaxationSettings
+from structure.thesis import ConstraintSettings, ThesisSettings
+
+from .scene import Scene, SceneError
+
+
+@dataclass(frozen=True)
+class Setup:
+    """Everything a procedure needs: scene, model, liquid and solver settings."""
+
+    scene: Scene
+    model: MembraneModel
+    liquid: HydrostaticLiquid
+    constraints: ConstraintSettings
+    relaxation: RelaxationSettings
+    thesis: ThesisSettings
+
+
+def courant_time_step_limit(model: MembraneModel, liquid: HydrostaticLiquid,
+                            largest_height: float) -> float:
+    """Largest dt (s) with a first-step Courant number below 1 (see module docstring);
+    ``largest_height`` is the largest |equivalent height| (m) the run applies."""
+    g = liquid.acceleration_magnitude
+    p_max = liquid.density * g * (abs(largest_height) + model.radius)
+    areal_mass = model.material.density * model.material.thickness
+    accel = p_max / areal_mass + g
+    if accel == 0.0:
+        return float("inf")
+    return float(np.sqrt(model.node_length_scale.min() / accel))
+
+
+def build(scene: Scene) -> Setup:
+    """Build the :class:`Setup` of ``scene``; raises :class:`SceneError` on a bad time step."""
+    m, c = scene["membrane"], scene["constraints"]
+    material = Material(m["thickness"], m["density"], m["youngs_modulus"])
+    model = hemisphere_model(m["grid_size"], scene["tank"]["radius"], material, m["support"])
+    liquid = HydrostaticLiquid(scene["liquid"]["density"],
+                               tuple(scene["liquid"]["body_acceleration"]))
+    constraints = ConstraintSettings(
+        error_limit=c["error_limit"] / 100.0, bend_limit_iterations=c["bend_limit_iterations"],
+        self_collision=c["self_collision"], collision_buffer=c["collision_buffer"],
+        constraint_iterations=c["constraint_iterations"])
+    th = scene["thesis"]
+    thesis = ThesisSettings(dt=th["dt"], steady_state=th["steady_state"], damping=th["damping"],
+                            constraints=constraints)
+    relaxation = RelaxationSettings()
+    given = {k: v for k, v in scene["relaxation"].items() if v is not None}
+    relaxation = replace(relaxation, **given,
+                         constraints=replace(relaxation.constraints,
+                                             error_limit=constraints.error_limit,
+                                             bend_limit_iterations=constraints.bend_limit_iterations,
+                                             self_collision=constraints.self_collision,
+                                             collision_buffer=constraints.collision_buffer,
+                                             constraint_iterations=constraints.constraint_iterations))
+    if scene["scene"]["procedure"] == "thesis-ramp":
+        h = max(abs(th["height_start"]), abs(th["height_end"])) * model.radius
+        _check_dt("thesis.dt", th["dt"], courant_time_step_limit(model, liquid, h))
+    else:
+        _check_dt("relaxation.dt", relaxation.dt,
+                  courant_time_step_limit(model, liquid, model.radius))
+    return Setup(scene, model, liquid, constraints, relaxation, thesis)
+
+
+def _check_dt(key: str, dt: float, limit: float) -> None:
+    if dt >= limit:
+        raise SceneError(f"scene key '{key}' = {dt!r} breaks the Courant limit (thesis Eqn 4.7) "
+                         f"for this membrane and load; allowed 0 < dt < {limit:.3g} s")

@@ -1,0 +1,157 @@
+"""Command line: ``fsi run``, ``fsi compare``, ``fsi scenes``.
+
+    fsi run <bundled scene | scene.toml> --out DIR [--no-plots]
+    fsi compare A B [--fill F] [--obj-scale S]
+    fsi scenes [--reference]
+"""
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+log = logging.getLogger("fsi")
+
+
+class ProgressBar:
+    """Progress with ETA on stderr (tqdm), driven by fraction done."""
+
+    def __init__(self, label: str):
+        from tqdm import tqdm
+
+        self.bar = tqdm(total=1000, desc=label, unit="‰", file=sys.stderr,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining} {postfix}",
+                        mininterval=0.5)
+        self.last = -1e9
+
+    def __call__(self, fraction: float, message: str) -> None:
+        now = time.monotonic()
+        if fraction < 1.0 and now - self.last < 0.5:
+            return
+        self.last = now
+        self.bar.n = int(1000 * fraction)
+        self.bar.set_postfix_str(message, refresh=False)
+        self.bar.refresh()
+
+    def close(self):
+        self.bar.close()
+
+
+def cmd_run(args) -> int:
+    from .build import build
+    from .output import write_result
+    from .plots import make_plots
+    from .procedures import PROCEDURES
+    from .scene import load_scene
+
+    scene = load_scene(args.scene)
+    setup = build(scene)  # validates the time step before anything is written
+    procedure = PROCEDURES[scene["scene"]["procedure"]]
+    bar = ProgressBar(scene.name)
+    t0 = time.perf_counter()
+    try:
+        result = procedure(setup, bar)
+    finally:
+        bar.close()
+    result.attrs["run_seconds"] = time.perf_counter() - t0
+    path = write_result(Path(args.out), scene, setup.model, result)
+    log.info("wrote %s (%.1f s)", path, result.attrs["run_seconds"])
+    _print_summary(result)
+    if not args.no_plots:
+        plots = make_plots(args.out)
+        log.info("wrote %d plots in %s", len(plots), Path(args.out) / "plots")
+    return 0
+
+
+def _print_summary(result) -> None:
+    for name, g in result.groups.items():
+        if name == "history":
+            continue
+        print(f"[{name}]  target   fill    volume(m^3)   h(m)     strain  max-strain  steps  s")
+        for k in range(len(g["fill_fraction"])):
+            print(f"  {g['target_fill_fraction'][k]:8.3f} {g['fill_fraction'][k]:7.4f} "
+                  f"{g['liquid_volume'][k]:12.6e} {g['pressure_level'][k]:8.4f} "
+                  f"{g['strain_error'][k]:8.5f} {g['strain_max'][k]:8.5f} "
+                  f"{int(g['relaxation_steps'][k]):6d} {g['wall_seconds'][k]:6.2f}")
+
+
+def cmd_compare(args) -> int:
+    from .compare import eqn_6_1_error, read_obj_surface
+    from .output import read_result
+
+    a = read_result(args.a)
+    radius = float(a["attrs"]["radius"])
+    frames = a["frames"]
+    pick = range(len(frames["fill_fraction"]))
+    if args.fill is not None:
+        pick = [int(np.argmin(np.abs(frames["target_fill_fraction"] - args.fill)))]
+    if str(args.b).lower().endswith(".obj"):
+        points, faces = read_obj_surface(args.b)
+        points = points * args.obj_scale
+        print("fill     Eqn 6.1 error (%)  vs " + str(args.b))
+        for k in pick:
+            e = eqn_6_1_error(points, faces, frames["node_position"][k], radius)
+            print(f"{frames['target_fill_fraction'][k]:6.3f}  {e:10.4f}")
+        return 0
+    b = read_result(args.b)
+    faces = b["membrane"]["face_nodes"]
+    print("fill     Eqn 6.1 error (%)")
+    for k in pick:
+        target = frames["target_fill_fraction"][k]
+        j = np.flatnonzero(np.isclose(b["frames"]["target_fill_fraction"], target, atol=1e-9))
+        if j.size == 0:
+            print(f"{target:6.3f}  (no frame at this fill in {args.b})")
+            continue
+        e = eqn_6_1_error(b["frames"]["node_position"][j[0]], faces,
+                          frames["node_position"][k], radius)
+        print(f"{target:6.3f}  {e:10.4f}")
+    return 0
+
+
+def cmd_scenes(args) -> int:
+    from .scene import bundled_scenes, load_scene, reference_markdown
+
+    if args.reference:
+        print(reference_markdown())
+        return 0
+    for name in bundled_scenes():
+        print(f"{name:16s} {load_scene(name)['scene']['description']}")
+    return 0
+
+
+def main(argv=None) -> int:
+    from .scene import SceneError
+
+    parser = argparse.ArgumentParser(prog="fsi", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("run", help="run a scene and write results and plots")
+    p.add_argument("scene", help="bundled scene name or path to a .toml scene file")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.set_defaults(func=cmd_run)
+    p = sub.add_parser("compare", help="Eqn 6.1 error per fill between two results, "
+                                       "or a result and a Wavefront .obj surface")
+    p.add_argument("a", help="result folder or result.h5 (compared)")
+    p.add_argument("b", help="result folder / result.h5, or .obj surface (reference)")
+    p.add_argument("--fill", type=float, help="compare only the frame at this fill")
+    p.add_argument("--obj-scale", type=float, default=1.0,
+                   help="factor from .obj units to m (default 1)")
+    p.set_defaults(func=cmd_compare)
+    p = sub.add_parser("scenes", help="list bundled scenes")
+    p.add_argument("--reference", action="store_true", help="print the scene key reference")
+    p.set_defaults(func=cmd_scenes)
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    try:
+        return args.func(args)
+    except (SceneError, FileNotFoundError) as exc:
+        print(f"fsi: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

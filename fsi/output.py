@@ -1,0 +1,104 @@
+"""Result files: ``result.h5`` (h5py) and an XDMF time series (meshio) for ParaView.
+
+Layout of ``result.h5`` (documented in README):
+
+    attrs: scene (TOML text), scene_name, procedure, plus run facts (volumes in m^3, seconds)
+    /membrane/rest_position   (n_nodes, 3) float64, m
+    /membrane/face_nodes      (n_faces, 4) int64, quads
+    /membrane/fixed           (n_nodes,) bool
+    /<group>/node_position    (n_frames, n_nodes, 3) float64, m
+    /<group>/fill_fraction    (n_frames,) -, measured
+    /<group>/liquid_volume    (n_frames,) m^3
+    /<group>/pressure_level   (n_frames,) m, equivalent height h = p_ref / (rho |b|)
+    /<group>/wall_seconds     (n_frames,) s
+    ... and the other per-frame datasets a procedure records (each with a ``units`` attribute).
+
+Group ``frames`` is the main sequence (filling, or the thesis frames picked by volume);
+``drain`` the draining sweep; ``history`` every recorded thesis-ramp frame.
+
+Files are written into a temporary folder inside the output folder and moved into place only
+when complete, so an interrupted run leaves no half-written result.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import h5py
+import meshio
+import numpy as np
+
+UNITS = {
+    "node_position": "m", "fill_fraction": "1", "target_fill_fraction": "1",
+    "liquid_volume": "m^3", "pressure_level": "m", "pressure_reference": "Pa",
+    "wall_seconds": "s", "relaxation_steps": "1", "converged": "1", "strain_error": "1",
+    "strain_max": "1", "time": "s", "node_speed_max": "m/s",
+}
+
+RESULT_FILE = "result.h5"
+XDMF_FILE = "frames.xdmf"
+
+
+def write_result(out_dir: Path, scene, model, result) -> Path:
+    """Write ``result.h5`` and ``frames.xdmf`` (+ its ``frames.h5``) into ``out_dir``."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=".partial-", dir=out_dir))
+    try:
+        with h5py.File(tmp / RESULT_FILE, "w") as f:
+            f.attrs["scene"] = scene.text
+            f.attrs["scene_name"] = scene.name
+            f.attrs["procedure"] = scene["scene"]["procedure"]
+            f.attrs["radius"] = model.radius
+            f.attrs["grid_size"] = model.grid_size
+            for k, v in result.attrs.items():
+                f.attrs[k] = v
+            g = f.create_group("membrane")
+            g["rest_position"] = model.node_rest_position
+            g["face_nodes"] = model.face_nodes
+            g["fixed"] = model.node_fixed
+            g["rest_position"].attrs["units"] = "m"
+            for name, frames in result.groups.items():
+                grp = f.create_group(name)
+                for key, arr in frames.items():
+                    ds = grp.create_dataset(key, data=arr)
+                    ds.attrs["units"] = UNITS.get(key, "")
+        _write_xdmf(tmp, model, result.groups["frames"])
+        for p in tmp.iterdir():
+            os.replace(p, out_dir / p.name)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return out_dir / RESULT_FILE
+
+
+def _write_xdmf(folder: Path, model, frames: dict) -> None:
+    cells = [("quad", model.face_nodes)]
+    cwd = os.getcwd()
+    os.chdir(folder)  # meshio names its heavy-data file relative to the working folder
+    try:
+        with meshio.xdmf.TimeSeriesWriter(XDMF_FILE) as writer:
+            writer.write_points_cells(model.node_rest_position, cells)
+            for k in range(frames["node_position"].shape[0]):
+                disp = frames["node_position"][k] - model.node_rest_position
+                writer.write_data(float(frames["fill_fraction"][k]),
+                                  point_data={"displacement": disp,
+                                              "fixed": model.node_fixed.astype(np.float64)})
+    finally:
+        os.chdir(cwd)
+
+
+def read_result(path) -> dict:
+    """Read ``result.h5`` (a file or the run folder) into {"attrs", "membrane", groups...}."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / RESULT_FILE
+    if not path.is_file():
+        raise FileNotFoundError(f"no result file at '{path}'")
+    out: dict = {}
+    with h5py.File(path, "r") as f:
+        out["attrs"] = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
+        for name, grp in f.items():
+            out[name] = {k: ds[()] for k, ds in grp.items()}
+    return out

@@ -1,0 +1,91 @@
+"""PNG plots made from ``result.h5`` (never inside a time loop).
+
+* ``cross_section_fill_XXX.png``: the membrane's middle grid line in the y-z plane with the
+  tank wall, as thesis Figs 6.2-6.8 (App. J plots the grid column round(N/2));
+* ``surface_fill_XXX.png``: the 3-D membrane surface;
+* ``cross_sections.png``: all fills of a group in one panel (filling and draining side by side).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .output import read_result  # noqa: E402
+
+
+def _middle_column(pos: np.ndarray, n: int) -> np.ndarray:
+    """(N, 3) nodes of grid column round(N/2) (1-based), App. J's cross-section line."""
+    return pos.reshape(n, n, 3)[:, n // 2 - 1, :]
+
+
+def _tank(ax, radius):
+    t = np.linspace(0, 2 * np.pi, 361)
+    ax.plot(radius * np.cos(t), radius * np.sin(t), color="0.6", lw=1)
+    ax.axhline(0.0, color="0.85", lw=0.8)
+
+
+def make_plots(run_dir) -> list[Path]:
+    """Write the PNGs of the run in ``run_dir`` into ``run_dir/plots``; returns their paths."""
+    run_dir = Path(run_dir)
+    res = read_result(run_dir)
+    radius, n = float(res["attrs"]["radius"]), int(res["attrs"]["grid_size"])
+    out = run_dir / "plots"
+    out.mkdir(exist_ok=True)
+    written = []
+    frames = res["frames"]
+    for k, pos in enumerate(frames["node_position"]):
+        fill = float(frames["fill_fraction"][k])
+        tag = f"{100 * float(frames['target_fill_fraction'][k]):05.1f}" \
+            if np.isfinite(frames["target_fill_fraction"][k]) else f"{k:03d}"
+        col = _middle_column(pos, n)
+        fig, ax = plt.subplots(figsize=(6, 5))
+        _tank(ax, radius)
+        ax.plot(col[:, 1], col[:, 2], "k-o", ms=2, lw=1.5, label="membrane")
+        ax.set_aspect("equal")
+        ax.set_xlabel("y (m)")
+        ax.set_ylabel("z (m)")
+        ax.set_title(f"Cross section, fill {100 * fill:.1f} %")
+        p = out / f"cross_section_fill_{tag}.png"
+        fig.savefig(p, dpi=90, bbox_inches="tight")
+        plt.close(fig)
+        written.append(p)
+
+        g = pos.reshape(n, n, 3)
+        fig = plt.figure(figsize=(6, 5))
+        ax3 = fig.add_subplot(projection="3d")
+        ax3.plot_surface(g[..., 0], g[..., 1], g[..., 2], cmap="cool", edgecolor="k",
+                         linewidth=0.1, rstride=1, cstride=1)
+        ax3.set_box_aspect((1, 1, 1))
+        lim = (-radius, radius)
+        ax3.set(xlim=lim, ylim=lim, zlim=lim, xlabel="x (m)", ylabel="y (m)", zlabel="z (m)")
+        ax3.view_init(elev=25, azim=45)
+        ax3.set_title(f"Membrane, fill {100 * fill:.1f} %")
+        p = out / f"surface_fill_{tag}.png"
+        fig.savefig(p, dpi=90, bbox_inches="tight")
+        plt.close(fig)
+        written.append(p)
+
+    groups = [g for g in ("frames", "drain") if g in res]
+    fig, axes = plt.subplots(1, len(groups), figsize=(6 * len(groups), 5), squeeze=False)
+    for ax, name in zip(axes[0], groups):
+        _tank(ax, radius)
+        cmap = plt.get_cmap("viridis")
+        for k, pos in enumerate(res[name]["node_position"]):
+            fill = float(res[name]["fill_fraction"][k])
+            col = _middle_column(pos, n)
+            ax.plot(col[:, 1], col[:, 2], color=cmap(fill), lw=1.2, label=f"{100 * fill:.0f} %")
+        ax.set_aspect("equal")
+        ax.set_title({"frames": "filling", "drain": "draining"}[name])
+        ax.set_xlabel("y (m)")
+        ax.set_ylabel("z (m)")
+        ax.legend(fontsize=6, loc="upper right", ncol=2)
+    p = out / "cross_sections.png"
+    fig.savefig(p, dpi=90, bbox_inches="tight")
+    plt.close(fig)
+    written.append(p)
+    return written

@@ -1,0 +1,218 @@
+"""Scene files (TOML): schema, defaults and validation.
+
+A scene is a TOML file with the sections below. Every key has a type, a default and an allowed
+range; unknown keys, wrong types and out-of-range values raise :class:`SceneError` naming the
+key, the value and what is allowed, before anything is computed or written. The schema is the
+single place where defaults live; README's scene reference is generated from the same table
+(``fsi scenes --reference``).
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any, Callable
+
+from . import constants
+
+
+class SceneError(ValueError):
+    """A scene file is malformed: the message names the key, the value and the allowed range."""
+
+
+@dataclass(frozen=True)
+class Key:
+    """One scene key: Python type, default, check (value -> bool), allowed range text, doc."""
+
+    kind: type
+    default: Any
+    check: Callable[[Any], bool]
+    allowed: str
+    doc: str
+
+
+def _pos(v):
+    return v > 0
+
+
+def _vec3(v):
+    return isinstance(v, list) and len(v) == 3 and all(
+        isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v)
+
+
+def _fills(v):
+    return isinstance(v, list) and len(v) >= 1 and all(
+        isinstance(c, (int, float)) and not isinstance(c, bool) and 0.0 <= c <= 1.0 for c in v)
+
+
+SCHEMA: dict[str, dict[str, Key]] = {
+    "scene": {
+        "name": Key(str, "unnamed", lambda v: len(v) > 0, "non-empty text", "scene name"),
+        "description": Key(str, "", lambda v: True, "any text", "one-line description"),
+        "procedure": Key(str, "volume-sweep", lambda v: v in ("volume-sweep", "thesis-ramp"),
+                         "'volume-sweep' or 'thesis-ramp'",
+                         "volume-controlled quasi-static sweep, or the thesis's height ramp"),
+    },
+    "tank": {
+        "radius": Key(float, constants.TANK_RADIUS, _pos, "> 0 m", "spherical tank radius (m)"),
+    },
+    "membrane": {
+        "grid_size": Key(int, 26, lambda v: v >= 4 and v % 2 == 0, "even integer >= 4",
+                         "nodes per grid side (thesis GridSize)"),
+        "thickness": Key(float, constants.MEMBRANE_THICKNESS, _pos, "> 0 m",
+                         "membrane thickness (m)"),
+        "density": Key(float, constants.MEMBRANE_DENSITY, _pos, "> 0 kg/m^3",
+                       "membrane density (kg/m^3)"),
+        "youngs_modulus": Key(float, constants.MEMBRANE_YOUNGS_MODULUS, _pos, "> 0 Pa",
+                              "Young's modulus (Pa)"),
+        "support": Key(str, "clamped", lambda v: v in ("clamped", "simply-supported"),
+                       "'clamped' or 'simply-supported'",
+                       "rim support: two fixed rings (clamped) or one (simply supported)"),
+    },
+    "liquid": {
+        "density": Key(float, constants.WATER_DENSITY, _pos, "> 0 kg/m^3",
+                       "liquid density (kg/m^3)"),
+        "body_acceleration": Key(list, [0.0, 0.0, -constants.STANDARD_GRAVITY], _vec3,
+                                 "three finite numbers (m/s^2)",
+                                 "gravity minus tank acceleration, tank frame (m/s^2)"),
+    },
+    "constraints": {
+        "error_limit": Key(float, 1.0, lambda v: 0 < v < 100, "0 < value < 100 (%)",
+                           "in-plane strain limit (thesis ErrorLimit, %)"),
+        "bend_limit_iterations": Key(int, 10, lambda v: 0 <= v <= 1000, "0..1000",
+                                     "bend-limiting passes per step (thesis BendDamping)"),
+        "self_collision": Key(bool, False, lambda v: True, "true or false",
+                              "self-collision (thesis CollisionDetection)"),
+        "collision_buffer": Key(float, 1.0, lambda v: 0 < v <= 1, "0 < value <= 1",
+                                "collision distance / shortest rest edge (thesis Cbuffer)"),
+        "constraint_iterations": Key(int, 1, lambda v: 1 <= v <= 100, "1..100",
+                                     "constraint rounds per step (thesis ConstraintIterations)"),
+    },
+    "sweep": {
+        "fills": Key(list, [round(0.1 * k, 10) for k in range(11)], _fills,
+                     "non-empty list of numbers in [0, 1]", "fill fractions, in order"),
+        "drain": Key(bool, True, lambda v: True, "true or false",
+                     "after filling, sweep back down the same fills"),
+    },
+    "relaxation": {
+        "dt": Key(float, None, _pos, "> 0 s, below the explicit stability limit",
+                  "pseudo time step (s); default: the solver's"),
+        "damping": Key(float, None, lambda v: 0 <= v < 1, "0 <= value < 1",
+                       "velocity fraction removed per pseudo-step; default: the solver's"),
+        "tolerance": Key(float, None, lambda v: 0 < v < 1, "0 < value < 1",
+                         "converged when max node move per step / node size < tolerance"),
+        "max_steps": Key(int, None, lambda v: v >= 1, ">= 1", "pseudo-steps per fill at most"),
+    },
+    "thesis": {
+        "dt": Key(float, 1e-4, _pos, "> 0 s, below the explicit stability limit",
+                  "time step (s) (thesis dt)"),
+        "end_time": Key(float, 5.0, _pos, "> 0 s", "ramp duration (s) (thesis endtime)"),
+        "height_start": Key(float, -1.05, lambda v: -10 <= v <= 10, "-10..10 (x radius)",
+                            "initial equivalent height / radius (thesis -1.05)"),
+        "height_end": Key(float, 1.05, lambda v: -10 <= v <= 10, "-10..10 (x radius)",
+                          "final equivalent height / radius (thesis +1.05)"),
+        "steady_state": Key(bool, True, lambda v: True, "true or false",
+                            "reset acceleration each step (thesis SteadyState)"),
+        "damping": Key(str, "courant-drag", lambda v: v in ("none", "critical", "courant-drag"),
+                       "'none', 'critical' or 'courant-drag'", "damping mode (see README)"),
+        "frame_interval": Key(int, 100, lambda v: v >= 1, ">= 1",
+                              "steps between recorded frames (thesis 0.05 s / dt)"),
+    },
+}
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: ``values[section][key]`` with defaults filled in, and the source text."""
+
+    values: dict
+    text: str
+    source: str
+
+    def __getitem__(self, section: str) -> dict:
+        return self.values[section]
+
+    @property
+    def name(self) -> str:
+        return self.values["scene"]["name"]
+
+
+def _coerce(path: str, key: Key, value):
+    if key.kind is float and isinstance(value, int) and not isinstance(value, bool):
+        value = float(value)
+    if key.kind is float and isinstance(value, float) and not math.isfinite(value):
+        raise SceneError(f"scene key '{path}' = {value!r}: must be finite; allowed {key.allowed}")
+    if not isinstance(value, key.kind) or (key.kind is not bool and isinstance(value, bool)):
+        raise SceneError(f"scene key '{path}' = {value!r}: expected {key.kind.__name__}; "
+                         f"allowed {key.allowed}")
+    if not key.check(value):
+        raise SceneError(f"scene key '{path}' = {value!r} is out of range; allowed {key.allowed}")
+    return value
+
+
+def parse_scene(text: str, source: str = "<string>") -> Scene:
+    """Parse and validate scene TOML ``text``; raises :class:`SceneError`."""
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{source}: not valid TOML: {exc}") from None
+    values: dict = {}
+    for section, value in raw.items():
+        if section not in SCHEMA:
+            raise SceneError(f"unknown scene section '[{section}]'; allowed: "
+                             f"{', '.join(SCHEMA)}")
+        if not isinstance(value, dict):
+            raise SceneError(f"scene key '{section}' must be a table [{section}]")
+        for name in value:
+            if name not in SCHEMA[section]:
+                raise SceneError(f"unknown scene key '{section}.{name}'; allowed in "
+                                 f"[{section}]: {', '.join(SCHEMA[section])}")
+    for section, keys in SCHEMA.items():
+        given = raw.get(section, {})
+        values[section] = {name: (_coerce(f"{section}.{name}", key, given[name])
+                                  if name in given else key.default)
+                           for name, key in keys.items()}
+    _check_cross(values)
+    return Scene(values, text, source)
+
+
+def _check_cross(values: dict) -> None:
+    th = values["thesis"]
+    steps = th["end_time"] / th["dt"]
+    if steps > 5e7:
+        raise SceneError(f"scene key 'thesis.dt' = {th['dt']!r}: end_time/dt = {steps:.3g} steps; "
+                         f"allowed at most 5e7")
+    if values["scene"]["procedure"] == "volume-sweep" and len(values["sweep"]["fills"]) < 1:
+        raise SceneError("scene key 'sweep.fills' is empty; allowed: at least one fill in [0, 1]")
+
+
+def bundled_scenes() -> list[str]:
+    """Names of the scenes shipped in ``fsi/scenes``."""
+    return sorted(p.name[:-5] for p in resources.files("fsi.scenes").iterdir()
+                  if p.name.endswith(".toml"))
+
+
+def load_scene(name_or_path: str) -> Scene:
+    """Load a bundled scene by name, or a scene file by path; validates it."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        if not path.is_file():
+            raise SceneError(f"scene file '{path}' not found")
+        return parse_scene(path.read_text(), str(path))
+    if name_or_path not in bundled_scenes():
+        raise SceneError(f"unknown scene '{name_or_path}': not a file, and not one of the bundled "
+                         f"scenes {bundled_scenes()}")
+    text = resources.files("fsi.scenes").joinpath(f"{name_or_path}.toml").read_text()
+    return parse_scene(text, f"bundled:{name_or_path}")
+
+
+def reference_markdown() -> str:
+    """Scene reference table (Markdown) generated from :data:`SCHEMA`."""
+    lines = ["| key | default | allowed | meaning |", "|---|---|---|---|"]
+    for section, keys in SCHEMA.items():
+        for name, key in keys.items():
+            default = "solver default" if key.default is None else repr(key.default)
+            lines.append(f"| `{section}.{name}` | {default} | {key.allowed} | {key.doc} |")
+    return "\n".join(lines)
