@@ -1,0 +1,100 @@
+"""End-to-end runs through the CLI on small scenes: output layout, determinism, compare."""
+import subprocess
+import sys
+
+import h5py
+import meshio
+import numpy as np
+import pytest
+
+from fsi.cli import main
+from fsi.compare import eqn_6_1_error, node_areas
+from fsi.output import read_result
+
+RAMP = """
+[scene]
+name = "small-ramp"
+procedure = "thesis-ramp"
+[membrane]
+grid_size = 8
+[thesis]
+end_time = 0.05
+frame_interval = 50
+[sweep]
+fills = [0.0, 0.5, 1.0]
+"""
+
+
+@pytest.fixture(scope="module")
+def ramp_runs(tmp_path_factory):
+    d = tmp_path_factory.mktemp("ramp")
+    scene = d / "small.toml"
+    scene.write_text(RAMP)
+    outs = []
+    for k in range(2):
+        out = d / f"run{k}"
+        assert main(["run", str(scene), "--out", str(out)] + (["--no-plots"] if k else [])) == 0
+        outs.append(out)
+    return outs
+
+
+def test_result_layout(ramp_runs):
+    with h5py.File(ramp_runs[0] / "result.h5") as f:
+        n = 64
+        assert f["membrane/rest_position"].shape == (n, 3)
+        assert f["membrane/face_nodes"].shape == (49, 4)
+        assert f["membrane/fixed"].dtype == bool
+        assert "procedure = \"thesis-ramp\"" in f.attrs["scene"]
+        for name in ("node_position", "fill_fraction", "liquid_volume", "pressure_level",
+                     "wall_seconds"):
+            assert f["frames"][name].shape[0] == 3
+        assert f["frames/node_position"].shape == (3, n, 3)
+        assert f["history/time"].shape == (10,)
+        assert f["frames/liquid_volume"].attrs["units"] == "m^3"
+    mesh_reader = meshio.xdmf.TimeSeriesReader(str(ramp_runs[0] / "frames.xdmf"))
+    points, cells = mesh_reader.read_points_cells()
+    assert points.shape == (64, 3) and cells[0].type == "quad"
+    assert not list(ramp_runs[0].glob(".partial-*"))
+    assert len(list((ramp_runs[0] / "plots").glob("cross_section_fill_*.png"))) == 3
+
+
+def test_same_scene_twice_gives_identical_arrays(ramp_runs):
+    a, b = read_result(ramp_runs[0]), read_result(ramp_runs[1])
+    for group in ("frames", "history"):
+        for key in ("node_position", "liquid_volume", "pressure_level"):
+            assert np.array_equal(a[group][key], b[group][key])
+
+
+def test_compare_to_itself_and_to_shifted_obj(ramp_runs, tmp_path, capsys):
+    res = read_result(ramp_runs[0])
+    pos = res["frames"]["node_position"][-1]
+    faces = res["membrane"]["face_nodes"]
+    radius = float(res["attrs"]["radius"])
+    assert eqn_6_1_error(pos, faces, pos, radius) == pytest.approx(0.0, abs=1e-12)
+    dz = 0.004
+    shifted = pos + np.array([0.0, 0.0, dz])
+    inside = np.linalg.norm(shifted, axis=1) < 0.8 * radius
+    expected = 100 * dz * node_areas(shifted, faces)[inside].sum() / (4 / 3 * np.pi * radius**3)
+    obj = tmp_path / "scan.obj"
+    with open(obj, "w") as f:
+        for p in shifted:
+            f.write(f"v {p[0]:.12e} {p[1]:.12e} {p[2]:.12e}\n")
+        for q in faces + 1:
+            f.write("f " + " ".join(map(str, q)) + "\n")
+    assert main(["compare", str(ramp_runs[0]), str(obj), "--fill", "1.0"]) == 0
+    out = capsys.readouterr().out.strip().splitlines()[-1].split()
+    assert float(out[1]) == pytest.approx(expected, rel=1e-6)
+    assert main(["compare", str(ramp_runs[0]), str(ramp_runs[1])]) == 0
+    rows = capsys.readouterr().out.strip().splitlines()[1:]
+    assert len(rows) == 3 and all(float(r.split()[1]) == 0.0 for r in rows)
+
+
+def test_bad_scene_writes_nothing(tmp_path):
+    scene = tmp_path / "bad.toml"
+    scene.write_text("[membrane]\nthickness = -1.0\n")
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "fsi.cli", "run", str(scene), "--out", str(out)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "membrane.thickness" in proc.stderr and "> 0 m" in proc.stderr
+    assert not out.exists()

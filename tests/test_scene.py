@@ -1,0 +1,59 @@
+"""Scene validation: unknown keys, wrong types and out-of-range values name the key."""
+import pytest
+
+from fsi.build import build
+from fsi.scene import SCHEMA, SceneError, bundled_scenes, load_scene, parse_scene
+
+
+def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
+    assert {"thesis-static", "thesis-ramp"} <= set(bundled_scenes())
+    s = load_scene("thesis-static")
+    assert s["membrane"] == dict(grid_size=26, thickness=0.001778, density=1070.0,
+                                 youngs_modulus=8.6e6, support="clamped")
+    assert s["tank"]["radius"] == 0.20955
+    assert s["liquid"]["body_acceleration"] == [0.0, 0.0, -9.81]
+    assert s["constraints"]["error_limit"] == 1.0
+    assert s["constraints"]["bend_limit_iterations"] == 10
+    assert len(s["sweep"]["fills"]) == 11
+    r = load_scene("thesis-ramp")["thesis"]
+    assert (r["dt"], r["end_time"], r["height_start"], r["height_end"]) == (1e-4, 5.0, -1.05, 1.05)
+
+
+@pytest.mark.parametrize("text,key,allowed", [
+    ("[membrane]\nthickness = -0.001", "membrane.thickness", "> 0 m"),
+    ("[membrane]\ngrid_size = 25", "membrane.grid_size", "even integer >= 4"),
+    ("[membrane]\ngrid_size = 2", "membrane.grid_size", "even integer >= 4"),
+    ("[membrane]\ngrid_size = 26.0", "membrane.grid_size", "expected int"),
+    ("[sweep]\nfills = [0.2, 1.5]", "sweep.fills", "[0, 1]"),
+    ("[sweep]\nfills = [-0.1]", "sweep.fills", "[0, 1]"),
+    ("[constraints]\nerror_limit = 0", "constraints.error_limit", "0 < value < 100"),
+    ("[liquid]\nbody_acceleration = [0, -9.81]", "liquid.body_acceleration", "three"),
+    ("[thesis]\ndamping = 'heavy'", "thesis.damping", "courant-drag"),
+    ("[scene]\nprocedure = 'dance'", "scene.procedure", "volume-sweep"),
+    ("[membrane]\nthicknes = 0.001", "membrane.thicknes", "allowed in [membrane]"),
+    ("[membrne]\nthickness = 0.001", "membrne", "allowed"),
+    ("[constraints]\nself_collision = 1", "constraints.self_collision", "expected bool"),
+])
+def test_bad_scene_raises_naming_key_and_range(text, key, allowed):
+    with pytest.raises(SceneError) as err:
+        parse_scene(text)
+    assert key in str(err.value) and allowed in str(err.value)
+
+
+def test_time_step_breaking_courant_limit_raises_before_running():
+    scene = parse_scene("[scene]\nprocedure = 'thesis-ramp'\n[thesis]\ndt = 0.01")
+    with pytest.raises(SceneError, match=r"thesis\.dt.*Courant.*allowed 0 < dt <"):
+        build(scene)
+    build(parse_scene("[scene]\nprocedure = 'thesis-ramp'\n[membrane]\ngrid_size = 6"))
+
+
+def test_every_schema_default_passes_its_own_check():
+    for section, keys in SCHEMA.items():
+        for name, key in keys.items():
+            if key.default is not None:
+                assert key.check(key.default), f"{section}.{name}"
+
+
+def test_missing_scene_file_raises(tmp_path):
+    with pytest.raises(SceneError, match="not found"):
+        load_scene(str(tmp_path / "nope.toml"))
