@@ -9,39 +9,19 @@ import numpy as np
 from numba import njit
 
 JIT = dict(cache=True, nogil=True, fastmath=False)
+JIT_FAST = dict(cache=True, nogil=True, fastmath=True, error_model="numpy")
 
 
-@njit(**JIT)
-def _tangent(pos, n, i, j, along_j):
-    """d pos / d(index) at node (i, j): central inside, second-order one-sided at the border.
-
-    This is MATLAB ``surfnorm``'s rule (quadratic extrapolation past the border, then a central
-    difference), written out.
-    """
-    out = np.empty(3)
-    if along_j:
-        k0 = i * n + j
-        if j == 0:
-            for c in range(3):
-                out[c] = 0.5 * (-3.0 * pos[k0, c] + 4.0 * pos[k0 + 1, c] - pos[k0 + 2, c])
-        elif j == n - 1:
-            for c in range(3):
-                out[c] = 0.5 * (3.0 * pos[k0, c] - 4.0 * pos[k0 - 1, c] + pos[k0 - 2, c])
-        else:
-            for c in range(3):
-                out[c] = 0.5 * (pos[k0 + 1, c] - pos[k0 - 1, c])
-    else:
-        k0 = i * n + j
-        if i == 0:
-            for c in range(3):
-                out[c] = 0.5 * (-3.0 * pos[k0, c] + 4.0 * pos[k0 + n, c] - pos[k0 + 2 * n, c])
-        elif i == n - 1:
-            for c in range(3):
-                out[c] = 0.5 * (3.0 * pos[k0, c] - 4.0 * pos[k0 - n, c] + pos[k0 - 2 * n, c])
-        else:
-            for c in range(3):
-                out[c] = 0.5 * (pos[k0 + n, c] - pos[k0 - n, c])
-    return out
+@njit(**JIT, inline="always")
+def _tangent(pos, k, step, at_start, at_end, c):
+    """Component c of d pos / d(grid index) at node k along a grid direction of stride ``step``:
+    central inside, second-order one-sided at the border (MATLAB ``surfnorm``'s quadratic
+    extrapolation past the border followed by a central difference, written out)."""
+    if at_start:
+        return 0.5 * (-3.0 * pos[k, c] + 4.0 * pos[k + step, c] - pos[k + 2 * step, c])
+    if at_end:
+        return 0.5 * (3.0 * pos[k, c] - 4.0 * pos[k - step, c] + pos[k - 2 * step, c])
+    return 0.5 * (pos[k + step, c] - pos[k - step, c])
 
 
 @njit(**JIT)
@@ -56,15 +36,15 @@ def node_area_and_normal(pos, n, sign):
     for i in range(n - 1):
         for j in range(n - 1):
             k = i * n + j
-            p1 = pos[k]
-            a = pos[k + 1] - p1
-            b = pos[k + n] - p1
-            c = pos[k + n + 1] - p1
-            ac = np.array([a[1] * c[2] - a[2] * c[1], a[2] * c[0] - a[0] * c[2],
-                           a[0] * c[1] - a[1] * c[0]])
-            bc = np.array([b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2],
-                           b[0] * c[1] - b[1] * c[0]])
-            q = 0.125 * (np.sqrt(ac @ ac) + np.sqrt(bc @ bc))
+            ax, ay, az = pos[k + 1, 0] - pos[k, 0], pos[k + 1, 1] - pos[k, 1], pos[k + 1, 2] - pos[k, 2]
+            bx, by, bz = pos[k + n, 0] - pos[k, 0], pos[k + n, 1] - pos[k, 1], pos[k + n, 2] - pos[k, 2]
+            cx = pos[k + n + 1, 0] - pos[k, 0]
+            cy = pos[k + n + 1, 1] - pos[k, 1]
+            cz = pos[k + n + 1, 2] - pos[k, 2]
+            q = 0.125 * (np.sqrt((ay * cz - az * cy) ** 2 + (az * cx - ax * cz) ** 2
+                                 + (ax * cy - ay * cx) ** 2)
+                         + np.sqrt((by * cz - bz * cy) ** 2 + (bz * cx - bx * cz) ** 2
+                                   + (bx * cy - by * cx) ** 2))
             area[k] += q
             area[k + 1] += q
             area[k + n] += q
@@ -72,13 +52,17 @@ def node_area_and_normal(pos, n, sign):
     normal = np.empty((nn, 3))
     for i in range(n):
         for j in range(n):
-            tj = _tangent(pos, n, i, j, True)
-            ti = _tangent(pos, n, i, j, False)
-            c0 = tj[1] * ti[2] - tj[2] * ti[1]
-            c1 = tj[2] * ti[0] - tj[0] * ti[2]
-            c2 = tj[0] * ti[1] - tj[1] * ti[0]
-            s = sign / max(np.sqrt(c0 * c0 + c1 * c1 + c2 * c2), 1e-300)
             k = i * n + j
+            jx = _tangent(pos, k, 1, j == 0, j == n - 1, 0)
+            jy = _tangent(pos, k, 1, j == 0, j == n - 1, 1)
+            jz = _tangent(pos, k, 1, j == 0, j == n - 1, 2)
+            ix = _tangent(pos, k, n, i == 0, i == n - 1, 0)
+            iy = _tangent(pos, k, n, i == 0, i == n - 1, 1)
+            iz = _tangent(pos, k, n, i == 0, i == n - 1, 2)
+            c0 = jy * iz - jz * iy
+            c1 = jz * ix - jx * iz
+            c2 = jx * iy - jy * ix
+            s = sign / max(np.sqrt(c0 * c0 + c1 * c1 + c2 * c2), 1e-300)
             normal[k, 0] = c0 * s
             normal[k, 1] = c1 * s
             normal[k, 2] = c2 * s
@@ -116,7 +100,7 @@ def bending_force(pos, normal, bend_nodes, bend_rest, bend_k, force):
     return fmax
 
 
-@njit(**JIT)
+@njit(**JIT_FAST)
 def _relax_family(pos, inv_mass, nodes, rest, lo, hi, delta, gauss_seidel):
     """One pass over one spring family (App. G/H); returns sum |L - L0| before it (m).
 
@@ -185,12 +169,9 @@ def limit_in_plane_strain(pos, inv_mass, nodes, rest, family_start, total_rest, 
 
 
 @njit(**JIT)
-def limit_bending(pos, inv_mass, bend_nodes, bend_rest, family_start, iterations, gauss_seidel):
-    """App. H bend limiting, in place: ``iterations`` Jacobi passes pulling each two-cell chord
-    (end nodes of a bending triple) to its rest length."""
-    pairs = np.empty((bend_nodes.shape[0], 2), dtype=np.int64)
-    pairs[:, 0] = bend_nodes[:, 0]
-    pairs[:, 1] = bend_nodes[:, 2]
+def limit_bending(pos, inv_mass, pairs, bend_rest, family_start, iterations, gauss_seidel):
+    """App. H bend limiting, in place: ``iterations`` passes pulling each two-cell chord
+    (``pairs`` (b, 2): the end nodes of each bending triple) to its rest length."""
     delta = np.zeros_like(pos)
     for _ in range(iterations):
         for f in range(family_start.size - 1):

@@ -88,9 +88,18 @@ class MembraneModel:
     normal_sign: float = 1.0
     volume_sign: float = 1.0
 
+    def __post_init__(self):
+        object.__setattr__(self, "_bend_chord_nodes",
+                           np.ascontiguousarray(self.bend_nodes[:, [0, 2]]))
+
     @property
     def n_nodes(self) -> int:
         return self.node_rest_position.shape[0]
+
+    @property
+    def bend_chord_nodes(self) -> np.ndarray:
+        """(b, 2) int64: the end nodes of each bending triple (App. H's chords)."""
+        return self._bend_chord_nodes
 
     @property
     def total_rest_length(self) -> float:

@@ -69,7 +69,7 @@ def apply_constraints(model: MembraneModel, pos: np.ndarray, cs: ConstraintSetti
     for _ in range(cs.constraint_iterations):
         _, error = limit_in_plane_strain(pos, *args)
         if cs.bend_limit_iterations > 0:
-            limit_bending(pos, model.node_inv_mass, model.bend_nodes, model.bend_rest_length,
+            limit_bending(pos, model.node_inv_mass, model.bend_chord_nodes, model.bend_rest_length,
                           model.bend_family_start, cs.bend_limit_iterations, cs.gauss_seidel)
             _, error = limit_in_plane_strain(pos, *args)
         if cs.self_collision:

@@ -1,0 +1,81 @@
+"""Time the thesis static sweep and the thesis mode against the thesis's 6 h 50 min.
+
+    python benchmarks/static_sweep.py
+
+Runs (compilation excluded: a small warm-up run compiles and caches the numba kernels first)
+1. the volume-controlled sweep of the bundled ``thesis-static`` scene, filling leg only
+   (11 fills, 26 x 26 grid);
+2. the thesis mode, the bundled ``thesis-ramp`` scene (50,000 steps at dt = 1e-4 s);
+and prints one JSON object: seconds of each, the speed-up over 24,600 s (Levine 2014, Table 4.1
+runtime), the goals (sweep <= 10 s, thesis mode <= 60 s) and, for the sweep, the largest
+volume error and strain, so that speed is never reported without accuracy.
+"""
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from fsi.build import build
+from fsi.constants import THESIS_RUNTIME_SECONDS
+from fsi.procedures import PROCEDURES
+from fsi.scene import load_scene, parse_scene
+
+GOALS = {"sweep_seconds": 10.0, "thesis_mode_seconds": 60.0}
+
+
+def _quiet(fraction, message):
+    pass
+
+
+def _timed(setup):
+    t0 = time.perf_counter()
+    result = PROCEDURES[setup.scene["scene"]["procedure"]](setup, _quiet)
+    return time.perf_counter() - t0, result
+
+
+def main() -> dict:
+    # warm-up: compile every kernel on a small grid
+    for proc in ("volume-sweep", "thesis-ramp"):
+        warm = parse_scene(f"[scene]\nprocedure = '{proc}'\n[membrane]\ngrid_size = 6\n"
+                           "[sweep]\nfills = [0.0, 0.5]\ndrain = false\n"
+                           "[thesis]\nend_time = 0.01\nframe_interval = 10\n")
+        _timed(build(warm))
+
+    static = load_scene("thesis-static")
+    static = replace(static, values={**static.values,
+                                     "sweep": {**static["sweep"], "drain": False}})
+    sweep_s, sweep = _timed(build(static))
+    frames = sweep.groups["frames"]
+    target = np.asarray(frames["target_fill_fraction"])
+    volume_error = np.abs(frames["liquid_volume"] - (
+        sweep.attrs["empty_volume"] + target * (sweep.attrs["full_volume"]
+                                                - sweep.attrs["empty_volume"])))
+    rel = volume_error / np.maximum(frames["liquid_volume"], 1e-300)
+
+    ramp_s, ramp = _timed(build(load_scene("thesis-ramp")))
+    out = {
+        "sweep_seconds": round(sweep_s, 3),
+        "sweep_speedup": round(THESIS_RUNTIME_SECONDS / sweep_s, 1),
+        "sweep_fills": len(target),
+        "sweep_all_converged": bool(np.all(frames["converged"])),
+        "sweep_max_relative_volume_error": float(np.max(rel[target > 0])) if np.any(target > 0)
+        else 0.0,
+        "sweep_max_strain_error": float(np.max(frames["strain_error"])),
+        "sweep_max_single_spring_strain": float(np.max(frames["strain_max"])),
+        "thesis_mode_seconds": round(ramp_s, 3),
+        "thesis_mode_speedup": round(THESIS_RUNTIME_SECONDS / ramp_s, 1),
+        "thesis_mode_final_fill": float(ramp.groups["history"]["fill_fraction"][-1]),
+        "anchor_seconds": THESIS_RUNTIME_SECONDS,
+        "goals_seconds": GOALS,
+        "goals_met": {k: bool(out_s <= GOALS[k]) for k, out_s in
+                      (("sweep_seconds", sweep_s), ("thesis_mode_seconds", ramp_s))},
+    }
+    print(json.dumps(out, indent=2))
+    return out
+
+
+if __name__ == "__main__":
+    main()
