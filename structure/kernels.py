@@ -70,12 +70,19 @@ def node_area_and_normal(pos, n, sign):
 
 
 @njit(**JIT)
-def bending_force(pos, normal, bend_nodes, bend_rest, bend_k, force):
+def bending_force(pos, normal, bend_nodes, bend_rest, bend_k, force, offset_limited=False):
     """Add the thesis bending-spring forces (App. F) to ``force`` (n, 3) N.
 
     For each triple (P1, Pm, P2) the sagitta d = sqrt((L_B/2)^2 - (|P2-P1|/2)^2) (0 when the chord
     is longer than at rest) gives a force K_eq d on the middle node along its normal, pointing
-    back towards the chord.  Returns the largest K_eq d (N).
+    back towards the chord.  Returns the largest force magnitude (N).
+
+    ``offset_limited`` (not in the thesis) caps the magnitude at K_eq |u|, u the middle node's
+    offset from the chord midpoint along its normal (m): f = K_eq clip(-u, -d, d).  With
+    unstretched half-segments |u| = d and nothing changes; on a nearly straight triple whose
+    chord is shortened by in-plane compression the thesis force jumps between +-K_eq d as the
+    node crosses the chord (d is 14 % of L_B/2 at 1 % compression), which makes quasi-static
+    relaxation chatter; the capped force goes through zero there instead.
     """
     fmax = 0.0
     for s in range(bend_nodes.shape[0]):
@@ -92,7 +99,10 @@ def bending_force(pos, normal, bend_nodes, bend_rest, bend_k, force):
         u = 0.0
         for c in range(3):
             u += (pos[m, c] - 0.5 * (pos[a, c] + pos[b, c])) * normal[m, c]
-        f = bend_k[s] * d if u < 0.0 else -bend_k[s] * d
+        if offset_limited:
+            f = -bend_k[s] * min(max(u, -d), d)
+        else:
+            f = bend_k[s] * d if u < 0.0 else -bend_k[s] * d
         for c in range(3):
             force[m, c] += f * normal[m, c]
         if abs(f) > fmax:
@@ -147,10 +157,10 @@ def _relax_family(pos, inv_mass, nodes, rest, lo, hi, delta, gauss_seidel):
 
 @njit(**JIT)
 def limit_in_plane_strain(pos, inv_mass, nodes, rest, family_start, total_rest, error_limit,
-                          max_passes, gauss_seidel):
+                          max_passes, gauss_seidel, min_passes=1):
     """App. G strain limiting, in place: passes over the four families until the thesis error
     sum |L - L0| / sum L0 (measured as each family is relaxed) is below ``error_limit``
-    (a fraction, ErrorLimit/100).  At least one pass is made, as in App. G.
+    (a fraction, ErrorLimit/100).  At least ``min_passes`` passes are made (1 in App. G).
 
     Returns (passes, error).  ``passes == max_passes`` with error above the limit means the
     limit was not reached.
@@ -158,7 +168,7 @@ def limit_in_plane_strain(pos, inv_mass, nodes, rest, family_start, total_rest, 
     delta = np.zeros_like(pos)
     passes = 0
     error = np.inf
-    while error > error_limit and passes < max_passes:
+    while (error > error_limit or passes < min_passes) and passes < max_passes:
         passes += 1
         e = 0.0
         for f in range(family_start.size - 1):
@@ -300,3 +310,47 @@ def closed_volume_gradient(pos, faces, sign):
                 g[k, 1] += sign * zbar * 0.5 * (pos[k2, 0] - pos[k1, 0])
                 g[k, 2] += sign * axy / 3.0
     return g
+
+
+@njit(**JIT)
+def project_volume_masked(pos, inv_mass, movable, faces, sign, volume_offset, target,
+                          iterations, max_move):
+    """Move the ``movable`` nodes along W grad V so that the liquid volume
+    ``volume_offset + closed_volume_term`` (m^3) equals ``target`` (m^3), in place.
+
+    W is the inverse node mass (least mass-weighted move, a position-based-dynamics volume
+    constraint); ``iterations`` Newton steps on the multiplier, which is clipped so that no node
+    moves more than ``max_move`` (n,) m. Returns the multiplier lambda (kg/m) of
+    ``dx = lambda W grad V``; 0 when no movable node can change the volume.
+    """
+    grad = closed_volume_gradient(pos, faces, sign)
+    direction = np.zeros_like(pos)
+    slope = 0.0
+    for k in range(pos.shape[0]):
+        if movable[k]:
+            for c in range(3):
+                direction[k, c] = inv_mass[k] * grad[k, c]
+                slope += direction[k, c] * grad[k, c]
+    if slope <= 0.0:
+        return 0.0
+    lam_max = np.inf
+    for k in range(pos.shape[0]):
+        size = np.sqrt(direction[k, 0] ** 2 + direction[k, 1] ** 2 + direction[k, 2] ** 2)
+        if size > 0.0:
+            lam_max = min(lam_max, max_move[k] / size)
+    base = pos.copy()
+    lam = 0.0
+    for _ in range(iterations):
+        residual = volume_offset + closed_volume_term(pos, faces, sign) - target
+        grad = closed_volume_gradient(pos, faces, sign)
+        slope = 0.0
+        for k in range(pos.shape[0]):
+            for c in range(3):
+                slope += grad[k, c] * direction[k, c]
+        if slope <= 0.0:
+            break
+        lam = min(max(lam - residual / slope, -lam_max), lam_max)
+        for k in range(pos.shape[0]):
+            for c in range(3):
+                pos[k, c] = base[k, c] + lam * direction[k, c]
+    return lam

@@ -1,19 +1,54 @@
 """Quasi-static equilibrium of the thesis membrane, pressure- or volume-controlled.
 
-The equilibrium is found by damped pseudo-time stepping (dynamic relaxation) of the thesis
-forces (Eqn 4.6: bending springs, pressure along node normals, gravity) and position
-constraints (App. G-I and the tank wall), with the Verlet velocity correction
-v = (x_new - x_old)/dt so that constraint moves act as forces, and a velocity damping factor.
+The equilibrium is found by pseudo-time stepping (dynamic relaxation) of the thesis forces
+(Eqn 4.6: bending springs, pressure along node normals, gravity) with the position constraints
+(App. G strain limiting, the tank wall) and the Verlet velocity v = (x_new - x_old)/dt, so that
+constraint moves act as forces.  Only dt^2/m matters for the equilibrium; dt sets how stiff the
+in-plane springs are between strain passes.  Choices that differ from the thesis stepper, each
+needed for the relaxation to settle (all are settings):
 
-Volume control carries the liquid volume as a hard constraint V(x) = V_target with a Lagrange
-multiplier: each pseudo-step the free nodes are projected along W grad V onto the target volume
-(:func:`structure.volume.project_volume`); the multiplier of that projection divided by dt^2 is a
-uniform pressure, accumulated into the pressure level, so at convergence the level is the
-uniform pressure that holds the volume (the thesis's "equivalent fluid height", found here
-directly instead of by iteration).
+* kinetic damping: all velocities are zeroed when the kinetic energy stops growing (an energy
+  peak), the classic dynamic-relaxation damping; it leaves the slow modes undamped until their
+  peak and needs no tuning against the slowest mode;
+* exactly ``strain_passes`` Gauss-Seidel strain passes per step instead of App. G's stopping
+  rule (passes until the error is below the limit), which switches the in-plane response
+  between soft and rigid as the error crosses the limit and then locks the shape against the
+  volume constraint; the limit is enforced on the converged shape instead (finish below);
+* the tank wall without slack (the 1.001 slack of App. I chatters);
+* bending forces capped at K_eq times the middle node's offset from its chord
+  (:func:`structure.kernels.bending_force`, ``offset_limited``): the thesis force flips between
+  +-K_eq d on compressed, nearly straight triples;
+* no bend limiting (App. H) unless ``bend_limiting``: it keeps every two-cell chord near its rest
+  length and locks the fold at the rim (see README).
 
-A solve stops when the largest free-node move per pseudo-step, relative to its length scale,
-stays below ``tolerance`` (and the volume matches its target) or after ``max_steps``.
+Volume control.  The liquid volume is a hard constraint V(x) = V_target whose multiplier is the
+uniform pressure level l (Pa) added to the hydrostatic field (the thesis's equivalent fluid
+height h = l / (rho g), found here instead of iterated).  Each pseudo-step
+
+1. the pressure p(x) + l pushes the membrane along its node normals (the thesis load);
+2. after the strain and wall constraints, the free nodes that are not held by the wall are
+   projected along W grad V onto the target volume (:func:`structure.kernels.
+   project_volume_masked`), with multiplier lambda; a node touching the wall is held when its
+   pressure presses it onto the wall (p + l <= 0) or when the projection would peel it off the
+   wall: only the pressure lifts the membrane off the wall (a projection spread over the whole
+   membrane pulls the wall-supported part inwards, compresses it and crumples it);
+3. the level is corrected by ``level_gain * lambda / dt^2`` (integral action).
+
+At convergence the projection does nothing (lambda -> 0), so the level alone holds the volume
+through the thesis's own pressure load: it is the Lagrange multiplier of the relaxed model, not
+a pseudo-dynamic artefact (the in-plane response between passes is penalty-like, so where the
+shape needs strain, at folds, the level depends somewhat on ``strain_passes`` and ``dt``).  The
+volume target is ramped from the start volume at ``ramp_rate``; the projection keeps the volume
+exact at every step.  When every free node lies
+on the wall (the empty membrane) the volume is fixed by the wall, no pressure level is
+determined, and the level is reported as NaN.
+
+A solve has converged when, after the ramp, the largest free-node move in one pseudo-step over
+the node's length scale is below ``tolerance`` and the level changes by less than
+``level_tolerance`` per step.  A short finish then alternates App. G strain limiting (to
+``constraints.error_limit``) with the volume projection, so that both hold on the returned
+shape; where they cannot both hold (the target needs more stretch than the limit allows, e.g.
+near 100 % fill with the two clamped rings) the relaxed shape is returned unpolished.
 """
 from __future__ import annotations
 
@@ -22,46 +57,85 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .kernels import limit_in_plane_strain, wall_collision
+from .kernels import (bending_force, limit_bending, limit_in_plane_strain,
+                      node_area_and_normal, project_volume_masked, wall_collision)
 from .model import MembraneModel, MembraneState
-from .thesis import ConstraintSettings, CourantError, apply_constraints, external_force
-from .volume import liquid_volume, project_volume
+from .thesis import ConstraintSettings, CourantError
+from .volume import liquid_volume, liquid_volume_gradient, lower_hemisphere_volume
 
 PressureField = Callable[[np.ndarray], np.ndarray]
 """Pressure (n,) Pa on the liquid side at node positions (n, 3) m, excluding the uniform level."""
 
+_NEWTON_ITERATIONS = 3
+"""Newton steps of each volume projection (the volume is cubic in a uniform move)."""
+
+
+def _relaxation_constraints() -> ConstraintSettings:
+    return ConstraintSettings(wall_slack=1.0, gauss_seidel=True)
+
 
 @dataclass(frozen=True)
 class RelaxationSettings:
-    """Pseudo-time relaxation settings.
+    """Pseudo-time relaxation settings (defaults: the thesis scene, 26 x 26 grid).
 
-    dt : pseudo time step (s). damping : fraction of the velocity removed per step (-).
-    tolerance : convergence when max |dx| / L_node per step < tolerance (-).
-    volume_tolerance : |V - V_target| / V_target allowed at the end (-).
-    ramp_steps : steps over which a volume target is moved from the start volume to the goal.
+    dt : pseudo time step (s).
+    damping : fraction of the velocity removed per step (-), on top of kinetic damping.
+    kinetic_damping : zero all velocities when the kinetic energy stops growing.
+    tolerance : converged when max |dx| / L_node per step < tolerance (-).
+    level_tolerance : converged only when the level changes by less than this per step (Pa).
+    level_gain : fraction of the projection multiplier lambda / dt^2 added to the level (-).
+    volume_tolerance : |V - V_target| over the tank volume (4/3) pi R^3 allowed on the returned
+        shape (-).
+    ramp_rate : the volume target moves from the start volume to the goal by at most this
+        fraction of the tank volume (4/3) pi R^3 per step (-).
+    max_projection_move : the volume projection moves no node more than this times its length
+        scale per step (-).
     max_steps : cap on pseudo-steps per solve.
-    constraints : :class:`ConstraintSettings`.
+    strain_passes : App. G passes per step (-).
+    contact_tolerance : a node within contact_tolerance * R of the wall touches it (-).
+    offset_limited_bending : cap bending forces at K_eq times the chord offset (see module doc).
+    bend_limiting : apply App. H bend limiting (``constraints.bend_limit_iterations`` passes).
+    constraints : :class:`ConstraintSettings`: wall_slack and gauss_seidel are used in every
+        step, error_limit and max_strain_passes by the finish, bend_limit_iterations only with
+        ``bend_limiting``; self-collision is not applied.
     """
 
-    dt: float = 1e-3
-    damping: float = 0.1
+    dt: float = 2e-4
+    damping: float = 0.0
+    kinetic_damping: bool = True
     tolerance: float = 1e-5
+    level_tolerance: float = 0.1
+    level_gain: float = 0.1
     volume_tolerance: float = 1e-4
-    ramp_steps: int = 100
-    max_steps: int = 5000
-    constraints: ConstraintSettings = field(default_factory=ConstraintSettings)
+    ramp_rate: float = 5e-5
+    max_projection_move: float = 0.05
+    max_steps: int = 8000
+    strain_passes: int = 6
+    contact_tolerance: float = 1e-4
+    offset_limited_bending: bool = True
+    bend_limiting: bool = False
+    constraints: ConstraintSettings = field(default_factory=_relaxation_constraints)
 
     def __post_init__(self):
         if not self.dt > 0:
             raise ValueError(f"dt must be > 0 s, got {self.dt!r}")
         if not 0 <= self.damping < 1:
             raise ValueError(f"damping must be in [0, 1), got {self.damping!r}")
+        if not 0 < self.level_gain <= 1:
+            raise ValueError(f"level_gain must be in (0, 1], got {self.level_gain!r}")
+        if self.strain_passes < 1:
+            raise ValueError(f"strain_passes must be >= 1, got {self.strain_passes!r}")
 
 
 @dataclass
 class EquilibriumInfo:
-    """Outcome of one solve: steps taken, whether it converged, final move ratio (-), final
-    pressure level (Pa), liquid volume (m^3) and in-plane strain error (-)."""
+    """Outcome of one solve.
+
+    steps : pseudo-steps taken; converged : see module doc; move_ratio : final max move per step
+    over node size (-); pressure_level : uniform level (Pa) added to the pressure field, NaN when
+    the wall alone fixes the volume; liquid_volume (m^3); strain_error : thesis error
+    sum |L - L0| / sum L0 (-); strain_max : largest single-spring |L - L0| / L0 (-).
+    """
 
     steps: int
     converged: bool
@@ -69,6 +143,7 @@ class EquilibriumInfo:
     pressure_level: float
     liquid_volume: float
     strain_error: float
+    strain_max: float = float("nan")
 
 
 def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: PressureField,
@@ -78,61 +153,135 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
     """Relax ``state`` to equilibrium under ``pressure(x) + pressure_level``.
 
     With ``volume_target`` (m^3) the liquid volume is constrained (ramped from the start volume
-    over ``settings.ramp_steps``) and the uniform ``pressure_level`` (Pa) is solved for;
-    without it the level is held fixed. Returns the new state and an :class:`EquilibriumInfo`.
+    at ``settings.ramp_rate``) and the uniform level (Pa) is solved for, starting from
+    ``pressure_level``; without it the level is held at ``pressure_level``. Returns the new
+    state (velocities zero) and an :class:`EquilibriumInfo`.
     """
-    dt = settings.dt
+    s, cs = settings, settings.constraints
+    dt = s.dt
     x = state.node_position.copy()
     v = np.zeros_like(x)
     free = ~model.node_fixed
+    inv_mass = model.node_inv_mass
+    gravity = np.where(model.node_fixed, 0.0, model.node_mass)[:, None] * np.asarray(
+        body_acceleration, dtype=float)[None, :]
+    # exactly ``strain_passes`` passes: App. G's stopping rule (error below the limit) would
+    # switch the in-plane response between soft and rigid as the error crosses the limit
+    strain_args = (inv_mass, model.spring_nodes, model.spring_rest_length,
+                   model.spring_family_start, model.total_rest_length, 0.0, s.strain_passes,
+                   cs.gauss_seidel, s.strain_passes)
+    volume_args = (model.face_nodes, model.volume_sign, lower_hemisphere_volume(model.radius))
+    contact_radius = model.radius * (1.0 - s.contact_tolerance)
     start_volume = liquid_volume(model, x)
+    ramp_steps = 0
+    if volume_target is not None:
+        tank_volume = 2.0 * lower_hemisphere_volume(model.radius)
+        ramp_steps = int(np.ceil(abs(volume_target - start_volume) / (s.ramp_rate * tank_volume)))
+    max_move = s.max_projection_move * model.node_length_scale
     level = float(pressure_level)
-    applied_level = level if volume_target is None else 0.0
+    determined = True
+    kinetic_energy = 0.0
     move = np.inf
     converged = False
     steps = 0
-    for steps in range(1, settings.max_steps + 1):
-        force, _, _ = external_force(model, x, pressure(x) + applied_level, body_acceleration)
-        v = (1.0 - settings.damping) * v + dt * model.node_inv_mass[:, None] * force
+    for steps in range(1, s.max_steps + 1):
+        node_pressure = pressure(x) + level
+        area, normal = node_area_and_normal(x, model.grid_size, model.normal_sign)
+        force = (area * node_pressure)[:, None] * normal + gravity
+        bending_force(x, normal, model.bend_nodes, model.bend_rest_length, model.bend_stiffness,
+                      force, s.offset_limited_bending)
+        v = (1.0 - s.damping) * v + dt * inv_mass[:, None] * force
         x_old = x
         x = x + dt * v
-        apply_constraints(model, x, settings.constraints)
+        wall_collision(x, inv_mass, model.radius, cs.wall_slack)
+        limit_in_plane_strain(x, *strain_args)
+        if s.bend_limiting and cs.bend_limit_iterations > 0:
+            limit_bending(x, inv_mass, model.bend_chord_nodes, model.bend_rest_length,
+                          model.bend_family_start, cs.bend_limit_iterations, cs.gauss_seidel)
+            limit_in_plane_strain(x, *strain_args)
+        wall_collision(x, inv_mass, model.radius, cs.wall_slack)
         ramping = False
+        level_step = 0.0
         if volume_target is not None:
-            ramp = min(1.0, steps / max(settings.ramp_steps, 1))
+            ramp = min(1.0, steps / max(ramp_steps, 1))
             ramping = ramp < 1.0
-            lam = project_volume(model, x, start_volume + ramp * (volume_target - start_volume))
-            level = lam / dt**2
+            target = start_volume + ramp * (volume_target - start_volume)
+            radius = np.sqrt(np.einsum("ij,ij->i", x, x))
+            touching = radius >= contact_radius
+            determined = bool(np.any(free & ~touching))
+            lam = _project_volume(model, x, target, touching, node_pressure, volume_args,
+                                  max_move)
+            if determined:
+                level_step = s.level_gain * lam / dt**2
+                level += level_step
         v = (x - x_old) / dt
-        move = float(np.max(np.linalg.norm(x - x_old, axis=1)[free] / model.node_length_scale[free]))
+        if s.kinetic_damping:
+            energy = float(np.einsum("i,ij,ij->", model.node_mass, v, v))
+            if energy < kinetic_energy:
+                v[:] = 0.0
+            kinetic_energy = energy
+        move = float(np.max(np.sqrt(np.einsum("ij,ij->i", x - x_old, x - x_old))[free]
+                            / model.node_length_scale[free]))
         if not np.isfinite(move) or move > 1.0:
             raise CourantError(
                 f"pseudo-step {steps}: a node moved {move:.3g} of its length in one step; "
-                f"reduce relaxation dt (now {dt:g} s) or raise damping")
-        if not ramping and move < settings.tolerance:
+                f"reduce relaxation dt (now {dt:g} s)")
+        if not ramping and move < s.tolerance and abs(level_step) < s.level_tolerance:
             converged = True
             break
-    strain = _finish(model, x, settings.constraints, volume_target)
-    info = EquilibriumInfo(steps, converged, move, level, liquid_volume(model, x), strain)
+    volume_slack = s.volume_tolerance * 2.0 * lower_hemisphere_volume(model.radius)
+    if volume_target is not None:
+        x = _finish(model, x, volume_target, cs, contact_radius, pressure(x) + level,
+                    volume_args, volume_slack)
+    volume = liquid_volume(model, x)
+    if volume_target is not None and abs(volume - volume_target) > volume_slack:
+        converged = False
+    mean, worst = strain_error(model, x)
+    info = EquilibriumInfo(steps, converged, move, level if determined else float("nan"),
+                           volume, mean, worst)
     return MembraneState(x, np.zeros_like(x)), info
 
 
-def _finish(model, x, cs: ConstraintSettings, volume_target, rounds: int = 20) -> float:
-    """Alternate strain limiting and volume projection so both hold at the end; returns the
-    final strain error."""
+def _project_volume(model, x, target, touching, node_pressure, volume_args, max_move) -> float:
+    """Volume projection of ``x`` (in place) over the free nodes not held by the wall (see
+    module doc); returns the multiplier lambda (kg/m)."""
+    grow = target > liquid_volume(model, x)
+    # d V / d x points out of the liquid: growing the volume moves a node along it, shrinking
+    # against it; the move peels the node off the wall when it points towards the centre
+    outward = np.einsum("ij,ij->i", liquid_volume_gradient(model, x), x)
+    peels = outward < 0.0 if grow else outward > 0.0
+    held = touching & ((node_pressure <= 0.0) | peels)
+    movable = ~model.node_fixed & ~held
+    return project_volume_masked(x, model.node_inv_mass, movable, *volume_args, target,
+                                 _NEWTON_ITERATIONS, max_move)
+
+
+def _finish(model, x, volume_target, cs: ConstraintSettings, contact_radius, node_pressure,
+            volume_args, volume_slack, rounds: int = 20,
+            passes: int = 100) -> np.ndarray:
+    """Bring the relaxed shape ``x`` within the strain limit ``cs.error_limit`` by alternating
+    App. G strain limiting (at most ``passes`` per round) with the volume projection (at most
+    ``rounds`` rounds).
+
+    The relaxed shape carries a penalty-like residual strain (a few fixed passes per step); near
+    the limit a few rounds move nodes by a fraction of a per cent of their size. Returns the
+    polished copy when both the strain limit and the volume (within ``volume_slack`` m^3) hold,
+    else ``x`` unchanged (the volume then needs more stretching than the limit allows).
+    """
     args = (model.node_inv_mass, model.spring_nodes, model.spring_rest_length,
             model.spring_family_start, model.total_rest_length, cs.error_limit,
-            cs.max_strain_passes, cs.gauss_seidel)
-    error = np.inf
+            min(passes, cs.max_strain_passes), cs.gauss_seidel)
+    unlimited = np.full(model.n_nodes, np.inf)
+    y = x.copy()
     for _ in range(rounds):
-        _, error = limit_in_plane_strain(x, *args)
-        wall_collision(x, model.node_inv_mass, model.radius, cs.wall_slack)
-        if volume_target is None:
-            break
-        project_volume(model, x, volume_target)
-        if strain_error(model, x)[0] <= cs.error_limit:
-            break
-    return strain_error(model, x)[0]
+        if (strain_error(model, y)[0] <= cs.error_limit
+                and abs(liquid_volume(model, y) - volume_target) <= volume_slack):
+            return y
+        limit_in_plane_strain(y, *args)
+        wall_collision(y, model.node_inv_mass, model.radius, cs.wall_slack)
+        touching = np.einsum("ij,ij->i", y, y) >= contact_radius**2
+        _project_volume(model, y, volume_target, touching, node_pressure, volume_args, unlimited)
+    return x
 
 
 def strain_error(model: MembraneModel, node_position: np.ndarray) -> tuple[float, float]:
