@@ -68,9 +68,14 @@ def cmd_run(args) -> int:
 
 
 def _print_summary(result) -> None:
-    for name, g in result.groups.items():
-        if name == "history":
+    a = result.attrs
+    print(f"100 % fill = fully inverted equilibrium at h = {a['full_height']:.4f} m: "
+          f"{a['full_volume']:.6e} m^3 = {a['full_volume'] / a['mirrored_volume']:.4f} of the "
+          f"mirrored rest shape")
+    for name in ("frames", "drain"):
+        if name not in result.groups:
             continue
+        g = result.groups[name]
         print(f"[{name}]  target   fill    volume(m^3)   h(m)     strain  max-strain  steps  s")
         for k in range(len(g["fill_fraction"])):
             print(f"  {g['target_fill_fraction'][k]:8.3f} {g['fill_fraction'][k]:7.4f} "

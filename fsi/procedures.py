@@ -19,6 +19,7 @@ from structure.thesis import ThesisState, step
 from structure.volume import FillScale, liquid_volume
 
 from .build import Setup
+from .fill import FullInversion, full_inversion
 
 log = logging.getLogger(__name__)
 
@@ -48,8 +49,10 @@ def _frame_record(setup: Setup, scale: FillScale, pos, level, target_fill, secon
                   converged):
     volume = liquid_volume(setup.model, pos)
     mean, worst = strain_error(setup.model, pos)
+    tank = 4.0 / 3.0 * np.pi * setup.model.radius**3
     return dict(node_position=pos.copy(), fill_fraction=float(scale.fill(volume)),
                 target_fill_fraction=float(target_fill), liquid_volume=volume,
+                tank_fraction=volume / tank,
                 pressure_reference=float(level),
                 pressure_level=setup.liquid.equivalent_height(level),
                 wall_seconds=seconds, relaxation_steps=steps, converged=bool(converged),
@@ -60,20 +63,34 @@ def _stack(records: list[dict]) -> dict:
     return {k: np.asarray([r[k] for r in records]) for k in records[0]}
 
 
+def _new_result(setup: Setup, full: FullInversion) -> RunResult:
+    """RunResult carrying the fill scale and the 100 % reference shape."""
+    return RunResult(
+        groups=dict(full_inversion=dict(node_position=full.state.node_position[None],
+                                        liquid_volume=np.array([full.info.liquid_volume]),
+                                        strain_error=np.array([full.info.strain_error]),
+                                        strain_max=np.array([full.info.strain_max]),
+                                        converged=np.array([full.info.converged]))),
+        attrs=dict(empty_volume=full.scale.empty_volume, full_volume=full.scale.full_volume,
+                   mirrored_volume=full.mirrored_volume,
+                   full_pressure_reference=full.info.pressure_level,
+                   full_height=setup.liquid.equivalent_height(full.info.pressure_level)))
+
+
 @register_procedure("volume-sweep")
 def volume_sweep(setup: Setup, progress: Progress) -> RunResult:
     """Quasi-static sweep over ``sweep.fills`` by continuation (each fill starts from the
     previous equilibrium); with ``sweep.drain`` the same fills are then run back down."""
     fills = list(setup.scene["sweep"]["fills"])
-    scale = FillScale(setup.model)
+    full = full_inversion(setup)
+    scale = full.scale
     legs = [("frames", fills)]
     if setup.scene["sweep"]["drain"]:
         legs.append(("drain", fills[::-1]))
     total = sum(len(f) for _, f in legs)
     done = 0
     state = MembraneState(setup.model.node_rest_position)
-    result = RunResult(attrs=dict(empty_volume=scale.empty_volume,
-                                  full_volume=scale.full_volume))
+    result = _new_result(setup, full)
     for group, leg in legs:
         records = []
         for fill in leg:
@@ -105,7 +122,8 @@ def thesis_ramp(setup: Setup, progress: Progress) -> RunResult:
     model, liquid = setup.model, setup.liquid
     n_steps = int(round(th["end_time"] / th["dt"]))
     h0, h1 = th["height_start"] * model.radius, th["height_end"] * model.radius
-    scale = FillScale(model)
+    full = full_inversion(setup)
+    scale = full.scale
     state = ThesisState(model.node_rest_position)
     history = []
     t_start = time.perf_counter()
@@ -129,6 +147,7 @@ def thesis_ramp(setup: Setup, progress: Progress) -> RunResult:
         rec = {k: v[i] for k, v in hist.items()}
         rec["target_fill_fraction"] = float(fill)
         picked.append(rec)
-    return RunResult(groups=dict(frames=_stack(picked), history=hist),
-                     attrs=dict(empty_volume=scale.empty_volume, full_volume=scale.full_volume,
-                                app_j_full_volume=float(final_volume)))
+    result = _new_result(setup, full)
+    result.groups.update(frames=_stack(picked), history=hist)
+    result.attrs["app_j_full_volume"] = float(final_volume)
+    return result

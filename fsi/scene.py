@@ -95,6 +95,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                      "non-empty list of numbers in [0, 1]", "fill fractions, in order"),
         "drain": Key(bool, True, lambda v: True, "true or false",
                      "after filling, sweep back down the same fills"),
+        "full_height": Key(float, 1.05, lambda v: 0 < v <= 100, "0 < value <= 100 (x radius)",
+                           "equivalent height / radius of the load whose fully inverted "
+                           "equilibrium is 100 % fill (App. J: the ramp's final +1.05)"),
     },
     "relaxation": {
         "dt": Key(float, None, _pos, "> 0 s, below the explicit stability limit",

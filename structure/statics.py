@@ -95,6 +95,10 @@ class RelaxationSettings:
     contact_tolerance : a node within contact_tolerance * R of the wall touches it (-).
     offset_limited_bending : cap bending forces at K_eq times the chord offset (see module doc).
     bend_limiting : apply App. H bend limiting (``constraints.bend_limit_iterations`` passes).
+    strain_limit_stage : under volume control, when the relaxed shape exceeds the strain limit,
+        relax again from it with ``stiff_strain_passes`` passes per step (App. G's stopping
+        rule, passes until the error is below the limit, makes nodes jump by cells there).
+    stiff_strain_passes : strain passes per step of that second stage.
     constraints : :class:`ConstraintSettings`: wall_slack and gauss_seidel are used in every
         step, error_limit and max_strain_passes by the finish, bend_limit_iterations only with
         ``bend_limiting``; self-collision is not applied.
@@ -114,6 +118,8 @@ class RelaxationSettings:
     contact_tolerance: float = 1e-4
     offset_limited_bending: bool = True
     bend_limiting: bool = False
+    strain_limit_stage: bool = True
+    stiff_strain_passes: int = 24
     constraints: ConstraintSettings = field(default_factory=_relaxation_constraints)
 
     def __post_init__(self):
@@ -160,8 +166,6 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
     s, cs = settings, settings.constraints
     dt = s.dt
     x = state.node_position.copy()
-    v = np.zeros_like(x)
-    free = ~model.node_fixed
     inv_mass = model.node_inv_mass
     gravity = np.where(model.node_fixed, 0.0, model.node_mass)[:, None] * np.asarray(
         body_acceleration, dtype=float)[None, :]
@@ -179,12 +183,46 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
         ramp_steps = int(np.ceil(abs(volume_target - start_volume) / (s.ramp_rate * tank_volume)))
     max_move = s.max_projection_move * model.node_length_scale
     level = float(pressure_level)
+    # stage 1: ``strain_passes`` passes; stage 2 (only when stage 1 ends above the strain
+    # limit): ``stiff_strain_passes`` passes, a stiffer in-plane response, from the relaxed shape
+    stage_2_args = strain_args[:6] + (s.stiff_strain_passes, cs.gauss_seidel,
+                                      s.stiff_strain_passes)
+    steps = 0
+    for stage, stage_args in enumerate((strain_args, stage_2_args)):
+        if stage == 1 and (volume_target is None or not s.strain_limit_stage
+                           or strain_error(model, x)[0] <= cs.error_limit):
+            break
+        x, v, level, determined, move, converged, steps = _relax_stage(
+            model, x, pressure, gravity, s, stage_args, volume_target, start_volume,
+            ramp_steps, volume_args, contact_radius, max_move, level, steps)
+    volume_slack = s.volume_tolerance * 2.0 * lower_hemisphere_volume(model.radius)
+    if volume_target is not None:
+        x = _finish(model, x, volume_target, cs, contact_radius, pressure(x) + level,
+                    volume_args, volume_slack)
+    volume = liquid_volume(model, x)
+    if volume_target is not None and abs(volume - volume_target) > volume_slack:
+        converged = False
+    mean, worst = strain_error(model, x)
+    info = EquilibriumInfo(steps, converged, move, level if determined else float("nan"),
+                           volume, mean, worst)
+    return MembraneState(x, np.zeros_like(x)), info
+
+
+def _relax_stage(model, x, pressure, gravity, s, strain_args, volume_target, start_volume,
+                 ramp_steps, volume_args, contact_radius, max_move, level, first_step):
+    """Pseudo-time loop of :func:`solve_equilibrium` from ``x`` (see module doc), at most
+    ``s.max_steps`` steps numbered from ``first_step + 1``; returns (x, v, level, determined,
+    move, converged, last step)."""
+    cs, dt = s.constraints, s.dt
+    free = ~model.node_fixed
+    inv_mass = model.node_inv_mass
+    v = np.zeros_like(x)
     determined = True
     kinetic_energy = 0.0
     move = np.inf
     converged = False
-    steps = 0
-    for steps in range(1, s.max_steps + 1):
+    steps = first_step
+    for steps in range(first_step + 1, first_step + s.max_steps + 1):
         node_pressure = pressure(x) + level
         area, normal = node_area_and_normal(x, model.grid_size, model.normal_sign)
         force = (area * node_pressure)[:, None] * normal + gravity
@@ -229,17 +267,7 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
         if not ramping and move < s.tolerance and abs(level_step) < s.level_tolerance:
             converged = True
             break
-    volume_slack = s.volume_tolerance * 2.0 * lower_hemisphere_volume(model.radius)
-    if volume_target is not None:
-        x = _finish(model, x, volume_target, cs, contact_radius, pressure(x) + level,
-                    volume_args, volume_slack)
-    volume = liquid_volume(model, x)
-    if volume_target is not None and abs(volume - volume_target) > volume_slack:
-        converged = False
-    mean, worst = strain_error(model, x)
-    info = EquilibriumInfo(steps, converged, move, level if determined else float("nan"),
-                           volume, mean, worst)
-    return MembraneState(x, np.zeros_like(x)), info
+    return x, v, level, determined, move, converged, steps
 
 
 def _project_volume(model, x, target, touching, node_pressure, volume_args, max_move) -> float:
@@ -257,23 +285,20 @@ def _project_volume(model, x, target, touching, node_pressure, volume_args, max_
 
 
 def _finish(model, x, volume_target, cs: ConstraintSettings, contact_radius, node_pressure,
-            volume_args, volume_slack, rounds: int = 20,
-            passes: int = 100) -> np.ndarray:
-    """Bring the relaxed shape ``x`` within the strain limit ``cs.error_limit`` by alternating
-    App. G strain limiting (at most ``passes`` per round) with the volume projection (at most
-    ``rounds`` rounds).
+            volume_args, volume_slack, max_passes: int = 3000) -> np.ndarray:
+    """Bring the relaxed shape ``x`` within the strain limit ``cs.error_limit`` while keeping
+    the volume: repeated single App. G passes (Gauss-Seidel), each followed by the wall and the
+    volume projection, until both the strain limit and the volume (within ``volume_slack``
+    m^3) hold, at most ``max_passes`` times (one joint Gauss-Seidel sweep over all constraints).
 
-    The relaxed shape carries a penalty-like residual strain (a few fixed passes per step); near
-    the limit a few rounds move nodes by a fraction of a per cent of their size. Returns the
-    polished copy when both the strain limit and the volume (within ``volume_slack`` m^3) hold,
-    else ``x`` unchanged (the volume then needs more stretching than the limit allows).
+    Returns the polished copy, or ``x`` unchanged when the two cannot both be met (the volume
+    then needs more stretch than the limit allows).
     """
     args = (model.node_inv_mass, model.spring_nodes, model.spring_rest_length,
-            model.spring_family_start, model.total_rest_length, cs.error_limit,
-            min(passes, cs.max_strain_passes), cs.gauss_seidel)
+            model.spring_family_start, model.total_rest_length, 0.0, 1, cs.gauss_seidel)
     unlimited = np.full(model.n_nodes, np.inf)
     y = x.copy()
-    for _ in range(rounds):
+    for _ in range(max_passes):
         if (strain_error(model, y)[0] <= cs.error_limit
                 and abs(liquid_volume(model, y) - volume_target) <= volume_slack):
             return y

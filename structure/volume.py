@@ -9,15 +9,8 @@ the triangle terms taken with normals pointing out of the liquid (Levine 2014, A
 the same sum, per quad). The formula holds for any non-self-intersecting membrane inside the
 tank, folded or not, and is exact for the faceted (triangulated) membrane.
 
-Fill fraction (documented in README): 0 is the rest shape, 1 its mirror image through the
-equator plane, i.e. the faceted membrane fully inverted:
-
-    phi = (V - V_empty) / (V_full - V_empty),
-    V_empty = V_liquid(rest) (the thin slivers between facets and wall, ~1e-3 of V_full),
-    V_full = V_liquid(mirrored rest shape).
-
-App. J instead divides by the volume of the final frame of a run, which hides a membrane that
-never fully inverted; the mirrored rest shape is what a full inversion must reach.
+The fill scale (:class:`FillScale`) maps volume to fill fraction between an empty and a full
+volume; :mod:`fsi.fill` defines the project's scale (README, "Fill fraction and volume").
 """
 from __future__ import annotations
 
@@ -51,13 +44,21 @@ def mirrored_rest_position(model: MembraneModel) -> np.ndarray:
 
 
 class FillScale:
-    """Maps liquid volume (m^3) to fill fraction (-) and back, for one model."""
+    """Maps liquid volume (m^3) to fill fraction (-) and back:
+    phi = (V - empty_volume) / (full_volume - empty_volume)."""
 
-    def __init__(self, model: MembraneModel):
-        self.empty_volume = liquid_volume(model, model.node_rest_position)
-        self.full_volume = liquid_volume(model, mirrored_rest_position(model))
-        if not self.full_volume > self.empty_volume:
-            raise ValueError("membrane rest shape encloses no volume: is it a hemisphere?")
+    def __init__(self, empty_volume: float, full_volume: float):
+        if not full_volume > empty_volume:
+            raise ValueError(f"full volume {full_volume!r} m^3 must exceed the empty volume "
+                             f"{empty_volume!r} m^3")
+        self.empty_volume = float(empty_volume)
+        self.full_volume = float(full_volume)
+
+    @classmethod
+    def mirrored(cls, model: MembraneModel) -> "FillScale":
+        """Geometric scale: empty = rest shape, full = rest shape mirrored through z = 0."""
+        return cls(liquid_volume(model, model.node_rest_position),
+                   liquid_volume(model, mirrored_rest_position(model)))
 
     def volume(self, fill_fraction):
         """Liquid volume (m^3) at fill fraction ``fill_fraction`` (-)."""

@@ -45,7 +45,7 @@ def test_rest_is_empty_and_mirror_is_full(model26):
     ball = 4.0 / 3.0 * np.pi * R**3
     assert liquid_volume(model26, model26.node_rest_position) == pytest.approx(0.0, abs=5e-3 * ball)
     assert liquid_volume(model26, mirrored_rest_position(model26)) == pytest.approx(ball, rel=5e-3)
-    scale = FillScale(model26)
+    scale = FillScale.mirrored(model26)
     assert scale.fill(scale.volume(0.37)) == pytest.approx(0.37, rel=1e-12)
 
 

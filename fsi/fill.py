@@ -1,0 +1,81 @@
+"""The project's fill scale: 0 % = rest shape, 100 % = the fully inverted equilibrium.
+
+Levine's App. J divides by the volume of the last frame of the height ramp (the membrane under
+the final equivalent height +1.05 R). We keep that definition but take the *converged*
+equilibrium under that load, found from a fully inverted start, instead of whatever the ramp
+reached (the thesis's last frame held only about 70 % of the tank):
+
+    V_empty = V_liquid(rest shape)
+    V_full  = V_liquid(equilibrium under h = sweep.full_height * R, started inverted)
+    phi     = (V - V_empty) / (V_full - V_empty)
+
+The inverted start is the rest shape mirrored through the plane at the mean height of the
+innermost fixed ring (for a simply supported rim: the equator, i.e. the exact mirror image).
+With the thesis's clamped rim (two fixed rings) that ring lies a cell below the equator, so the
+band between it and the equator cannot invert and the fully inverted membrane holds less than
+the mirrored volume within the strain limit (0.80 of it at N = 26, 0.90 at N = 54); the ratio
+is recorded in every result (``full_volume / mirrored_volume``) and each frame's
+``tank_fraction`` is V / ((4/3) pi R^3).
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from structure.grid import boundary_ring
+from structure.model import MembraneModel, MembraneState
+from structure.statics import EquilibriumInfo, solve_equilibrium
+from structure.volume import FillScale, liquid_volume, mirrored_rest_position
+
+from .build import Setup
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class FullInversion:
+    """The 100 % reference: scale, equilibrium state and its solve info, mirrored volume (m^3)."""
+
+    scale: FillScale
+    state: MembraneState
+    info: EquilibriumInfo
+    mirrored_volume: float
+
+
+def inverted_start(model: MembraneModel) -> np.ndarray:
+    """Rest shape with its free nodes mirrored through z = mean height of the innermost fixed
+    ring, (n, 3) m."""
+    ring = boundary_ring(model.grid_size, _fixed_ring_count(model) - 1)
+    z0 = float(model.node_rest_position[ring, 2].mean())
+    pos = model.node_rest_position.copy()
+    free = ~model.node_fixed
+    pos[free, 2] = 2.0 * z0 - pos[free, 2]
+    return pos
+
+
+def _fixed_ring_count(model: MembraneModel) -> int:
+    """Number of whole grid rings, from the border in, whose nodes are all fixed (>= 1)."""
+    count = 0
+    while count < model.grid_size // 2 and np.all(
+            model.node_fixed[boundary_ring(model.grid_size, count)]):
+        count += 1
+    return count
+
+
+def full_inversion(setup: Setup) -> FullInversion:
+    """Solve the fully inverted equilibrium of ``setup`` and build the fill scale from it."""
+    model, liquid = setup.model, setup.liquid
+    height = setup.scene["sweep"]["full_height"] * model.radius
+    state, info = solve_equilibrium(model, MembraneState(inverted_start(model)), liquid.pressure,
+                                    liquid.body_acceleration, setup.relaxation,
+                                    pressure_level=liquid.reference_pressure(height))
+    if not info.converged:
+        log.warning("full inversion not converged after %d steps (move ratio %.2e): the 100 %% "
+                    "volume is approximate", info.steps, info.move_ratio)
+    scale = FillScale(liquid_volume(model, model.node_rest_position), info.liquid_volume)
+    mirrored = liquid_volume(model, mirrored_rest_position(model))
+    log.info("100 %% fill = fully inverted equilibrium at h = %.4f m: %.6e m^3 = %.4f of the "
+             "mirrored rest shape", height, info.liquid_volume, info.liquid_volume / mirrored)
+    return FullInversion(scale, state, info, mirrored)
