@@ -114,12 +114,12 @@ class RelaxationSettings:
     ramp_rate: float = 5e-5
     max_projection_move: float = 0.05
     max_steps: int = 8000
-    strain_passes: int = 6
+    strain_passes: int = 10
     contact_tolerance: float = 1e-4
     offset_limited_bending: bool = True
     bend_limiting: bool = False
     strain_limit_stage: bool = True
-    stiff_strain_passes: int = 24
+    stiff_strain_passes: int = 48
     constraints: ConstraintSettings = field(default_factory=_relaxation_constraints)
 
     def __post_init__(self):
