@@ -110,6 +110,17 @@ def bending_force(pos, normal, bend_nodes, bend_rest, bend_k, force, offset_limi
     return fmax
 
 
+@njit(**JIT_FAST, inline="always")
+def _pair_correction(out, a, b, dx, dy, dz, g, wa, wb):
+    """Add the mass-weighted pair correction: out[a] += g wa d, out[b] -= g wb d (d = x_b - x_a)."""
+    out[a, 0] += dx * g * wa
+    out[a, 1] += dy * g * wa
+    out[a, 2] += dz * g * wa
+    out[b, 0] -= dx * g * wb
+    out[b, 1] -= dy * g * wb
+    out[b, 2] -= dz * g * wb
+
+
 @njit(**JIT_FAST)
 def _relax_family(pos, inv_mass, nodes, rest, lo, hi, delta, gauss_seidel):
     """One pass over one spring family (App. G/H); returns sum |L - L0| before it (m).
@@ -132,20 +143,7 @@ def _relax_family(pos, inv_mass, nodes, rest, lo, hi, delta, gauss_seidel):
         if length == 0.0:
             continue
         g = (length - rest[s]) / (length * (wa + wb))
-        if gauss_seidel:
-            pos[a, 0] += dx * g * wa
-            pos[a, 1] += dy * g * wa
-            pos[a, 2] += dz * g * wa
-            pos[b, 0] -= dx * g * wb
-            pos[b, 1] -= dy * g * wb
-            pos[b, 2] -= dz * g * wb
-        else:
-            delta[a, 0] += dx * g * wa
-            delta[a, 1] += dy * g * wa
-            delta[a, 2] += dz * g * wa
-            delta[b, 0] -= dx * g * wb
-            delta[b, 1] -= dy * g * wb
-            delta[b, 2] -= dz * g * wb
+        _pair_correction(pos if gauss_seidel else delta, a, b, dx, dy, dz, g, wa, wb)
     if not gauss_seidel:
         for s in range(lo, hi):
             for k in (nodes[s, 0], nodes[s, 1]):
@@ -262,12 +260,7 @@ def self_collision(pos, inv_mass, n, min_distance):
                             continue
                         d = np.sqrt(d2)
                         g = (d - min_distance) / (d * (wa + wb))
-                        delta[a, 0] += dx * g * wa
-                        delta[a, 1] += dy * g * wa
-                        delta[a, 2] += dz * g * wa
-                        delta[b, 0] -= dx * g * wb
-                        delta[b, 1] -= dy * g * wb
-                        delta[b, 2] -= dz * g * wb
+                        _pair_correction(delta, a, b, dx, dy, dz, g, wa, wb)
                         pairs += 1
     for k in range(nn):
         for c in range(3):

@@ -164,7 +164,6 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
     state (velocities zero) and an :class:`EquilibriumInfo`.
     """
     s, cs = settings, settings.constraints
-    dt = s.dt
     x = state.node_position.copy()
     inv_mass = model.node_inv_mass
     gravity = np.where(model.node_fixed, 0.0, model.node_mass)[:, None] * np.asarray(
@@ -192,7 +191,7 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
         if stage == 1 and (volume_target is None or not s.strain_limit_stage
                            or strain_error(model, x)[0] <= cs.error_limit):
             break
-        x, v, level, determined, move, converged, steps = _relax_stage(
+        x, level, determined, move, converged, steps = _relax_stage(
             model, x, pressure, gravity, s, stage_args, volume_target, start_volume,
             ramp_steps, volume_args, contact_radius, max_move, level, steps)
     volume_slack = s.volume_tolerance * 2.0 * lower_hemisphere_volume(model.radius)
@@ -211,7 +210,7 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
 def _relax_stage(model, x, pressure, gravity, s, strain_args, volume_target, start_volume,
                  ramp_steps, volume_args, contact_radius, max_move, level, first_step):
     """Pseudo-time loop of :func:`solve_equilibrium` from ``x`` (see module doc), at most
-    ``s.max_steps`` steps numbered from ``first_step + 1``; returns (x, v, level, determined,
+    ``s.max_steps`` steps numbered from ``first_step + 1``; returns (x, level, determined,
     move, converged, last step)."""
     cs, dt = s.constraints, s.dt
     free = ~model.node_fixed
@@ -267,7 +266,7 @@ def _relax_stage(model, x, pressure, gravity, s, strain_args, volume_target, sta
         if not ramping and move < s.tolerance and abs(level_step) < s.level_tolerance:
             converged = True
             break
-    return x, v, level, determined, move, converged, steps
+    return x, level, determined, move, converged, steps
 
 
 def _project_volume(model, x, target, touching, node_pressure, volume_args, max_move) -> float:
