@@ -97,23 +97,20 @@ def cmd_compare(args) -> int:
     if str(args.b).lower().endswith(".obj"):
         points, faces = read_obj_surface(args.b)
         points = points * args.obj_scale
-        print("fill     Eqn 6.1 error (%)  vs " + str(args.b))
+        print("fill A   Eqn 6.1 error (%)  vs " + str(args.b))
         for k in pick:
             e = eqn_6_1_error(points, faces, frames["node_position"][k], radius)
-            print(f"{frames['target_fill_fraction'][k]:6.3f}  {e:10.4f}")
+            print(f"{frames['fill_fraction'][k]:6.3f}  {e:10.4f}")
         return 0
     b = read_result(args.b)
     faces = b["membrane"]["face_nodes"]
-    print("fill     Eqn 6.1 error (%)")
+    b_fill = b["frames"]["fill_fraction"]
+    print("fill A  fill B   Eqn 6.1 error (%)   (B's frame nearest in measured fill)")
     for k in pick:
-        target = frames["target_fill_fraction"][k]
-        j = np.flatnonzero(np.isclose(b["frames"]["target_fill_fraction"], target, atol=1e-9))
-        if j.size == 0:
-            print(f"{target:6.3f}  (no frame at this fill in {args.b})")
-            continue
-        e = eqn_6_1_error(b["frames"]["node_position"][j[0]], faces,
-                          frames["node_position"][k], radius)
-        print(f"{target:6.3f}  {e:10.4f}")
+        j = int(np.argmin(np.abs(b_fill - frames["fill_fraction"][k])))
+        e = eqn_6_1_error(b["frames"]["node_position"][j], faces, frames["node_position"][k],
+                          radius)
+        print(f"{frames['fill_fraction'][k]:6.3f}  {b_fill[j]:6.3f}  {e:10.4f}")
     return 0
 
 

@@ -86,7 +86,7 @@ def test_compare_to_itself_and_to_shifted_obj(ramp_runs, tmp_path, capsys):
     assert float(out[1]) == pytest.approx(expected, rel=1e-6)
     assert main(["compare", str(ramp_runs[0]), str(ramp_runs[1])]) == 0
     rows = capsys.readouterr().out.strip().splitlines()[1:]
-    assert len(rows) == 3 and all(float(r.split()[1]) == 0.0 for r in rows)
+    assert len(rows) == 3 and all(float(r.split()[2]) == 0.0 for r in rows)
 
 
 def test_bad_scene_writes_nothing(tmp_path):
