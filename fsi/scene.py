@@ -82,13 +82,15 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "error_limit": Key(float, 1.0, lambda v: 0 < v < 100, "0 < value < 100 (%)",
                            "in-plane strain limit (thesis ErrorLimit, %)"),
         "bend_limit_iterations": Key(int, 10, lambda v: 0 <= v <= 1000, "0..1000",
-                                     "bend-limiting passes per step (thesis BendDamping)"),
+                                     "bend-limiting passes per step (thesis BendDamping); thesis-ramp only, "
+                                     "the static sweep runs without (README)"),
         "self_collision": Key(bool, False, lambda v: True, "true or false",
-                              "self-collision (thesis CollisionDetection)"),
+                              "self-collision (thesis CollisionDetection); thesis-ramp only"),
         "collision_buffer": Key(float, 1.0, lambda v: 0 < v <= 1, "0 < value <= 1",
                                 "collision distance / shortest rest edge (thesis Cbuffer)"),
         "constraint_iterations": Key(int, 1, lambda v: 1 <= v <= 100, "1..100",
-                                     "constraint rounds per step (thesis ConstraintIterations)"),
+                                     "constraint rounds per step (thesis ConstraintIterations); "
+                                     "thesis-ramp only"),
     },
     "sweep": {
         "fills": Key(list, [round(0.1 * k, 10) for k in range(11)], _fills,

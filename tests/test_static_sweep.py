@@ -52,3 +52,11 @@ def test_simply_supported_rim_inverts_to_the_mirror_image():
     full = full_inversion(build(scene))
     assert full.info.converged
     assert full.info.liquid_volume == pytest.approx(full.mirrored_volume, rel=1e-3)
+
+
+def test_same_sweep_twice_gives_identical_arrays():
+    scene = parse_scene("[membrane]\ngrid_size = 10\n[sweep]\nfills = [0.0, 0.3, 0.6]\n")
+    runs = [PROCEDURES["volume-sweep"](build(scene), lambda f, m: None) for _ in range(2)]
+    for group in ("frames", "drain", "full_inversion"):
+        for key in ("node_position", "liquid_volume"):
+            assert np.array_equal(runs[0].groups[group][key], runs[1].groups[group][key])
