@@ -13,7 +13,9 @@ needed for the relaxation to settle (all are settings):
 * exactly ``strain_passes`` Gauss-Seidel strain passes per step instead of App. G's stopping
   rule (passes until the error is below the limit), which switches the in-plane response
   between soft and rigid as the error crosses the limit and then locks the shape against the
-  volume constraint; the limit is enforced on the converged shape instead (finish below);
+  volume constraint; when the relaxed shape still exceeds the limit, a second stage relaxes it
+  again with ``stiff_strain_passes`` passes per step, and the limit is checked on the
+  converged shape (finish below);
 * the tank wall without slack (the 1.001 slack of App. I chatters);
 * bending forces capped at K_eq times the middle node's offset from its chord
   (:func:`structure.kernels.bending_force`, ``offset_limited``): the thesis force flips between
@@ -45,10 +47,11 @@ determined, and the level is reported as NaN.
 
 A solve has converged when, after the ramp, the largest free-node move in one pseudo-step over
 the node's length scale is below ``tolerance`` and the level changes by less than
-``level_tolerance`` per step.  A short finish then alternates App. G strain limiting (to
-``constraints.error_limit``) with the volume projection, so that both hold on the returned
-shape; where they cannot both hold (the target needs more stretch than the limit allows, e.g.
-near 100 % fill with the two clamped rings) the relaxed shape is returned unpolished.
+``level_tolerance`` per step.  A finish then repeats single App. G passes, each followed by
+the volume projection, until the strain limit (``constraints.error_limit``) and the volume both
+hold on the returned shape; where that local sweep cannot meet both (the fold pattern reached
+needs more stretch than the limit allows) the relaxed shape is returned as it is and its strain
+is reported.
 """
 from __future__ import annotations
 

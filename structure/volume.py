@@ -67,26 +67,3 @@ class FillScale:
     def fill(self, volume):
         """Fill fraction (-) of liquid volume ``volume`` (m^3)."""
         return (np.asarray(volume) - self.empty_volume) / (self.full_volume - self.empty_volume)
-
-
-def project_volume(model: MembraneModel, node_position: np.ndarray, target: float,
-                   newton_iterations: int = 4) -> float:
-    """Move free nodes along W grad V so that V_liquid = ``target`` (m^3), in place.
-
-    W is the inverse node mass, so the move is the least-mass-weighted change that meets the
-    constraint (a position-based-dynamics volume constraint). Returns the multiplier lambda
-    (kg/m) of ``dx = lambda W grad V``; lambda / dt^2 is the uniform pressure (Pa) the move
-    stands for.
-    """
-    base = node_position.copy()
-    direction = model.node_inv_mass[:, None] * liquid_volume_gradient(model, base)
-    lam = 0.0
-    for _ in range(newton_iterations):
-        trial = base + lam * direction
-        residual = liquid_volume(model, trial) - target
-        slope = float(np.sum(liquid_volume_gradient(model, trial) * direction))
-        if slope == 0.0:
-            break
-        lam -= residual / slope
-    node_position[:] = base + lam * direction
-    return lam

@@ -6,8 +6,9 @@ import pytest
 from fsi.constants import TANK_RADIUS as R
 from structure.grid import triangles_from_quads
 from structure.model import hemisphere_model
+from structure.kernels import project_volume_masked
 from structure.volume import (FillScale, liquid_volume, liquid_volume_gradient,
-                              mirrored_rest_position, project_volume)
+                              lower_hemisphere_volume, mirrored_rest_position)
 
 
 def _graph_membrane(model, depth):
@@ -67,6 +68,9 @@ def test_projection_hits_target_and_keeps_fixed_nodes(model10):
     pos = _graph_membrane(model10, 0.4)
     target = liquid_volume(model10, pos) * 1.02
     before = pos.copy()
-    project_volume(model10, pos, target)
+    movable = ~model10.node_fixed
+    project_volume_masked(pos, model10.node_inv_mass, movable, model10.face_nodes,
+                          model10.volume_sign, lower_hemisphere_volume(R), target, 4,
+                          np.full(model10.n_nodes, np.inf))
     assert liquid_volume(model10, pos) == pytest.approx(target, rel=1e-12)
     assert np.array_equal(pos[model10.node_fixed], before[model10.node_fixed])
