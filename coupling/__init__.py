@@ -1,0 +1,14 @@
+"""Generic partitioned coupling: schemes, accelerations, convergence measures.
+
+Knows neither fluid nor structure: participants are seen through
+:class:`coupling.participant.Participant` and exchange named flat float64 vectors.
+"""
+from .acceleration import ACCELERATIONS, AccelerationSettings, register_acceleration
+from .convergence import ConvergenceMeasure
+from .participant import Participant
+from .scheme import (SCHEMES, CouplingError, CouplingLog, CouplingSettings, WindowLog,
+                     register_scheme, run)
+
+__all__ = ["ACCELERATIONS", "AccelerationSettings", "register_acceleration",
+           "ConvergenceMeasure", "Participant", "SCHEMES", "CouplingError", "CouplingLog",
+           "CouplingSettings", "WindowLog", "register_scheme", "run"]

@@ -1,0 +1,174 @@
+"""Accelerations of the coupling fixed point x = H(x): a registry of stateful objects.
+
+Each iteration of a window the scheme hands the acceleration the input ``x`` it used and the
+output ``x_tilde = H(x)``; the acceleration returns the next input. All work on one flat
+vector (the accelerated fields concatenated, each scaled by the scheme).
+
+* ``constant``: x+ = x + omega (x_tilde - x).
+* ``aitken``: dynamic relaxation (Irons & Tuck 1969; Kuettler & Wall 2008):
+  omega_k = -omega_{k-1} r_{k-1}.(r_k - r_{k-1}) / |r_k - r_{k-1}|^2, r = x_tilde - x; the first
+  iteration of every window uses ``initial_relaxation``.
+* ``iqn-ils``: interface quasi-Newton with inverse Jacobian from a least-squares model
+  (Degroote, Bathe & Vierendeels 2009): with V = [dr_i], W = [dx_tilde_i] (differences between
+  consecutive iterations, newest first, plus ``reuse`` past windows), solve min |V a + r| by QR
+  and set x+ = x_tilde + W a. Columns whose QR diagonal falls below ``filter_limit`` times their
+  norm are dropped (QR2 filter, Haelterman et al. 2016). The first iteration of the first window
+  (or when no column is left) is a constant relaxation with ``initial_relaxation``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+ACCELERATIONS: dict[str, Callable[..., "Acceleration"]] = {}
+
+
+def register_acceleration(name: str):
+    """Class decorator: register an acceleration under ``name``."""
+    def deco(cls):
+        ACCELERATIONS[name] = cls
+        cls.name = name
+        return cls
+    return deco
+
+
+@dataclass
+class AccelerationSettings:
+    """Knobs of every acceleration (each uses the ones it needs).
+
+    relaxation : constant omega (``constant``); initial_relaxation : first omega of a window
+    (``aitken``) or of the first iteration (``iqn-ils``); reuse : past windows kept
+    (``iqn-ils``); filter_limit : QR2 filter threshold (``iqn-ils``); max_columns : cap on
+    secant columns (``iqn-ils``).
+    """
+
+    relaxation: float = 0.5
+    initial_relaxation: float = 0.1
+    reuse: int = 0
+    filter_limit: float = 1e-8
+    max_columns: int = 100
+
+
+class Acceleration:
+    """Base: no memory. ``last_relaxation`` is logged (NaN for quasi-Newton steps)."""
+
+    name = "base"
+
+    def __init__(self, settings: AccelerationSettings):
+        self.s = settings
+        self.last_relaxation = float("nan")
+
+    def start_window(self) -> None:
+        """Called before the first iteration of a window."""
+
+    def end_window(self) -> None:
+        """Called when a window has converged (or been accepted)."""
+
+    def update(self, x: np.ndarray, x_tilde: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def _relax(self, x, x_tilde, omega):
+        self.last_relaxation = float(omega)
+        return x + omega * (x_tilde - x)
+
+
+@register_acceleration("constant")
+class ConstantRelaxation(Acceleration):
+    def update(self, x, x_tilde):
+        return self._relax(x, x_tilde, self.s.relaxation)
+
+
+@register_acceleration("aitken")
+class Aitken(Acceleration):
+    def __init__(self, settings):
+        super().__init__(settings)
+        self.previous_residual = None
+        self.omega = settings.initial_relaxation
+
+    def start_window(self):
+        self.previous_residual = None
+
+    def update(self, x, x_tilde):
+        r = x_tilde - x
+        if self.previous_residual is None:
+            self.omega = self.s.initial_relaxation
+        else:
+            dr = r - self.previous_residual
+            denom = float(dr @ dr)
+            if denom > 0.0:
+                self.omega = -self.omega * float(self.previous_residual @ dr) / denom
+        self.previous_residual = r.copy()
+        return self._relax(x, x_tilde, self.omega)
+
+
+@register_acceleration("iqn-ils")
+class IQNILS(Acceleration):
+    def __init__(self, settings):
+        super().__init__(settings)
+        self.window_v: list[np.ndarray] = []  # this window's columns, newest first
+        self.window_w: list[np.ndarray] = []
+        self.past: list[tuple[list, list]] = []  # (V cols, W cols) of past windows, newest first
+        self.previous = None  # (r, x_tilde) of the previous iteration
+        self.columns_used = 0
+        self.columns_filtered = 0
+
+    def start_window(self):
+        self.window_v, self.window_w = [], []
+        self.previous = None
+
+    def end_window(self):
+        if self.s.reuse > 0 and self.window_v:
+            self.past.insert(0, (self.window_v, self.window_w))
+            del self.past[self.s.reuse:]
+
+    def update(self, x, x_tilde):
+        r = x_tilde - x
+        if self.previous is not None:
+            r_old, xt_old = self.previous
+            self.window_v.insert(0, r - r_old)
+            self.window_w.insert(0, x_tilde - xt_old)
+        self.previous = (r.copy(), x_tilde.copy())
+        v_cols = list(self.window_v)
+        w_cols = list(self.window_w)
+        for pv, pw in self.past:
+            v_cols += pv
+            w_cols += pw
+        v_cols, w_cols = v_cols[: self.s.max_columns], w_cols[: self.s.max_columns]
+        if not v_cols:
+            self.columns_used = 0
+            return self._relax(x, x_tilde, self.s.initial_relaxation)
+        V = np.stack(v_cols, axis=1)
+        W = np.stack(w_cols, axis=1)
+        keep = _qr2_filter(V, self.s.filter_limit)
+        self.columns_filtered = V.shape[1] - keep.size
+        V, W = V[:, keep], W[:, keep]
+        self.columns_used = V.shape[1]
+        if V.shape[1] == 0:
+            return self._relax(x, x_tilde, self.s.initial_relaxation)
+        q, rr = np.linalg.qr(V)
+        alpha = np.linalg.solve(rr, -(q.T @ r))
+        self.last_relaxation = float("nan")
+        return x_tilde + W @ alpha
+
+
+def _qr2_filter(V: np.ndarray, limit: float) -> np.ndarray:
+    """Indices of the columns of V kept by a QR2 filter: Gram-Schmidt in order (newest first),
+    dropping a column whose orthogonal remainder is below ``limit`` times its norm."""
+    basis: list[np.ndarray] = []
+    keep = []
+    for j in range(V.shape[1]):
+        v = V[:, j].copy()
+        norm = np.linalg.norm(v)
+        if norm == 0.0:
+            continue
+        for _ in range(2):  # re-orthogonalise once for stability
+            for b in basis:
+                v -= (b @ v) * b
+        rest = np.linalg.norm(v)
+        if rest < limit * norm:
+            continue
+        basis.append(v / rest)
+        keep.append(j)
+    return np.asarray(keep, dtype=int)

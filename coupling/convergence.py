@@ -1,0 +1,55 @@
+"""Convergence measures per data field (as preCICE's relative/absolute measures).
+
+For a field with input ``x`` and output ``x_tilde`` of one coupling iteration:
+
+* ``absolute``: |x_tilde - x|_2 <= limit;
+* ``relative``: |x_tilde - x|_2 <= limit * |x_tilde|_2.
+
+A window has converged when every measure holds, or when any measure marked ``sufficient``
+holds (preCICE's ``suffices``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+MEASURE_KINDS = ("absolute", "relative")
+
+
+@dataclass(frozen=True)
+class ConvergenceMeasure:
+    """field : data field name; kind : ``absolute`` or ``relative``; limit : tolerance (field
+    units for absolute, - for relative); sufficient : this measure alone ends the window."""
+
+    field: str
+    kind: str = "relative"
+    limit: float = 1e-5
+    sufficient: bool = False
+
+    def __post_init__(self):
+        if self.kind not in MEASURE_KINDS:
+            raise ValueError(f"convergence measure kind must be one of {MEASURE_KINDS}, "
+                             f"got {self.kind!r}")
+        if not self.limit > 0:
+            raise ValueError(f"convergence limit for field '{self.field}' must be > 0, "
+                             f"got {self.limit!r}")
+
+    def residual(self, x: np.ndarray, x_tilde: np.ndarray) -> float:
+        """The measured norm: absolute |x_tilde - x|, or relative |x_tilde - x| / |x_tilde|."""
+        diff = float(np.linalg.norm(x_tilde - x))
+        if self.kind == "absolute":
+            return diff
+        scale = float(np.linalg.norm(x_tilde))
+        return diff / scale if scale > 0.0 else (0.0 if diff == 0.0 else np.inf)
+
+    def holds(self, residual: float) -> bool:
+        return residual <= self.limit
+
+
+def window_converged(measures, residuals: dict[str, float]) -> bool:
+    """True when all measures hold, or any sufficient one does."""
+    held = [m.holds(residuals[m.field]) for m in measures]
+    if any(h and m.sufficient for h, m in zip(held, measures)):
+        return True
+    return all(held)

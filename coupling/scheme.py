@@ -1,0 +1,225 @@
+"""Coupling schemes (registry): explicit, implicit serial, implicit parallel.
+
+Two participants, ``first`` and ``second`` (see :mod:`coupling.participant`). Per window:
+
+* ``explicit`` (staggered): first solves with the second's last data, then second with the
+  first's new data; one pass, no checkpoints.
+* ``implicit-serial`` (Gauss-Seidel): the fixed point x = H(x) with x the second's fields:
+  first solves with x, second with the first's output, giving x_tilde = H(x); the acceleration
+  proposes the next x; checkpoints are restored before each repeat.
+* ``implicit-parallel`` (Jacobi): both solve with the other's previous iterate; the fixed point is
+  over both participants' fields together.
+
+Convergence is measured per field on the change over one iteration (:mod:`coupling.convergence`);
+the accelerated vector is each accelerated field scaled by its norm at the window's first
+iteration (so fields of different units weigh alike in the quasi-Newton least squares).
+On reaching ``max_iterations`` without convergence the scheme raises :class:`CouplingError`
+(``on_max_iterations = "error"``) or accepts the last iterate and logs it (``"accept"``).
+"""
+from __future__ import annotations
+
+import logging
+import time as _time
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+import numpy as np
+
+from .acceleration import ACCELERATIONS, AccelerationSettings
+from .convergence import ConvergenceMeasure, window_converged
+from .participant import Participant
+
+log = logging.getLogger(__name__)
+
+SCHEMES: dict[str, Callable] = {}
+ON_MAX_ITERATIONS = ("error", "accept")
+
+
+def register_scheme(name: str):
+    """Decorator: register a window-iteration function under ``name``."""
+    def deco(func):
+        SCHEMES[name] = func
+        return func
+    return deco
+
+
+class CouplingError(RuntimeError):
+    """A window did not converge within ``max_iterations`` and the settings say stop."""
+
+
+@dataclass
+class CouplingSettings:
+    """Every knob of a coupled run (the scene's [coupling] table maps onto these).
+
+    scheme : one of SCHEMES; acceleration : one of ACCELERATIONS (ignored by ``explicit``);
+    acceleration_settings : :class:`AccelerationSettings`; measures : list of
+    :class:`ConvergenceMeasure`; max_iterations : per window; on_max_iterations : ``error`` or
+    ``accept``; accelerated_fields : fields in the fixed-point vector (default: the second's
+    fields for serial, all fields for parallel).
+    """
+
+    scheme: str = "implicit-serial"
+    acceleration: str = "iqn-ils"
+    acceleration_settings: AccelerationSettings = field(default_factory=AccelerationSettings)
+    measures: list = field(default_factory=list)
+    max_iterations: int = 50
+    on_max_iterations: str = "error"
+    accelerated_fields: Optional[tuple] = None
+
+    def __post_init__(self):
+        if self.scheme not in SCHEMES:
+            raise ValueError(f"coupling scheme must be one of {sorted(SCHEMES)}, "
+                             f"got {self.scheme!r}")
+        if self.acceleration not in ACCELERATIONS:
+            raise ValueError(f"acceleration must be one of {sorted(ACCELERATIONS)}, "
+                             f"got {self.acceleration!r}")
+        if self.on_max_iterations not in ON_MAX_ITERATIONS:
+            raise ValueError(f"on_max_iterations must be one of {ON_MAX_ITERATIONS}, "
+                             f"got {self.on_max_iterations!r}")
+        if self.max_iterations < 1:
+            raise ValueError(f"max_iterations must be >= 1, got {self.max_iterations!r}")
+
+
+@dataclass
+class WindowLog:
+    """One window: index, start time (s), iterations, residuals per iteration ({field: norm}),
+    relaxation per iteration (NaN for quasi-Newton steps), converged flag, and seconds spent in
+    each participant's ``solve_window``."""
+
+    index: int
+    time: float
+    iterations: int = 0
+    residuals: list = field(default_factory=list)
+    relaxation: list = field(default_factory=list)
+    converged: bool = False
+    seconds: dict = field(default_factory=dict)
+
+
+@dataclass
+class CouplingLog:
+    """All windows of a run."""
+
+    windows: list = field(default_factory=list)
+
+    @property
+    def mean_iterations(self) -> float:
+        return float(np.mean([w.iterations for w in self.windows])) if self.windows else 0.0
+
+
+class _Timed:
+    """Calls a participant's solve_window and adds its wall time to the window log."""
+
+    def __init__(self, participant: Participant, window: WindowLog):
+        self.p, self.w = participant, window
+        self.w.seconds.setdefault(participant.name, 0.0)
+
+    def __call__(self, t, dt, data):
+        t0 = _time.perf_counter()
+        out = self.p.solve_window(t, dt, data)
+        self.w.seconds[self.p.name] += _time.perf_counter() - t0
+        return {k: np.asarray(v, dtype=np.float64) for k, v in out.items()}
+
+
+def run(first: Participant, second: Participant, settings: CouplingSettings, dt: float,
+        n_windows: int, t0: float = 0.0, on_window: Optional[Callable] = None) -> CouplingLog:
+    """Couple ``first`` and ``second`` over ``n_windows`` windows of ``dt`` (s) from ``t0``.
+
+    ``on_window(window_log, data)`` is called after each window with the converged fields of
+    both participants. Returns the :class:`CouplingLog`.
+    """
+    if not dt > 0 or not np.isfinite(dt):
+        raise ValueError(f"time-window size dt must be finite and > 0 s, got {dt!r}")
+    data = {**{k: np.asarray(v, dtype=np.float64) for k, v in first.initial_data().items()},
+            **{k: np.asarray(v, dtype=np.float64) for k, v in second.initial_data().items()}}
+    acceleration = ACCELERATIONS[settings.acceleration](settings.acceleration_settings)
+    iterate = SCHEMES[settings.scheme]
+    coupling_log = CouplingLog()
+    for k in range(n_windows):
+        window = WindowLog(index=k, time=t0 + k * dt)
+        data = iterate(first, second, settings, acceleration, data, window.time, dt, window)
+        coupling_log.windows.append(window)
+        log.debug("window %d: %d iterations, converged %s", k, window.iterations,
+                  window.converged)
+        if on_window is not None:
+            on_window(window, data)
+    return coupling_log
+
+
+@register_scheme("explicit")
+def _explicit(first, second, settings, acceleration, data, t, dt, window):
+    solve1, solve2 = _Timed(first, window), _Timed(second, window)
+    out1 = solve1(t, dt, _pick(data, second.write_fields))
+    out2 = solve2(t, dt, out1)
+    window.iterations, window.converged = 1, True
+    return {**data, **out1, **out2}
+
+
+class _Packer:
+    """Concatenate named fields into one scaled vector and back."""
+
+    def __init__(self, names, sample: dict):
+        self.names = tuple(names)
+        self.sizes = [sample[n].size for n in self.names]
+        self.scale = np.array([max(float(np.linalg.norm(sample[n])), 1e-300) for n in self.names])
+
+    def pack(self, fields: dict) -> np.ndarray:
+        return np.concatenate([fields[n] / s for n, s in zip(self.names, self.scale)])
+
+    def unpack(self, vec: np.ndarray) -> dict:
+        out, i = {}, 0
+        for n, size, s in zip(self.names, self.sizes, self.scale):
+            out[n] = vec[i:i + size] * s
+            i += size
+        return out
+
+
+def _pick(data: dict, names) -> dict:
+    return {n: data[n] for n in names}
+
+
+def _implicit(first, second, settings, acceleration, data, t, dt, window, parallel: bool):
+    solve1, solve2 = _Timed(first, window), _Timed(second, window)
+    checkpoints = (first.store_checkpoint(), second.store_checkpoint())
+    names = settings.accelerated_fields or (
+        tuple(first.write_fields) + tuple(second.write_fields) if parallel
+        else tuple(second.write_fields))
+    x = dict(data)  # current input of every field
+    acceleration.start_window()
+    packer = None
+    for it in range(1, settings.max_iterations + 1):
+        if it > 1:
+            first.restore_checkpoint(checkpoints[0])
+            second.restore_checkpoint(checkpoints[1])
+        out1 = solve1(t, dt, _pick(x, second.write_fields))
+        out2 = solve2(t, dt, _pick(x if parallel else out1, first.write_fields))
+        x_tilde = {**x, **out1, **out2}
+        residuals = {m.field: m.residual(x[m.field], x_tilde[m.field]) for m in settings.measures}
+        window.residuals.append(residuals)
+        window.iterations = it
+        if window_converged(settings.measures, residuals):
+            window.converged = True
+            window.relaxation.append(float("nan"))
+            break
+        if packer is None:
+            packer = _Packer(names, x_tilde)
+        new = packer.unpack(acceleration.update(packer.pack(x), packer.pack(x_tilde)))
+        window.relaxation.append(acceleration.last_relaxation)
+        x = {**x_tilde, **new}
+    if not window.converged:
+        msg = (f"window {window.index} (t = {t:g} s) not converged after {window.iterations} "
+               f"iterations; last residuals {window.residuals[-1]}")
+        if settings.on_max_iterations == "error":
+            raise CouplingError(msg)
+        log.warning("%s; accepted", msg)
+    acceleration.end_window()
+    return x_tilde
+
+
+@register_scheme("implicit-serial")
+def _implicit_serial(*args):
+    return _implicit(*args, parallel=False)
+
+
+@register_scheme("implicit-parallel")
+def _implicit_parallel(*args):
+    return _implicit(*args, parallel=True)

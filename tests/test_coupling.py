@@ -1,0 +1,169 @@
+"""Coupling library: schemes x accelerations on fixed points with known solutions."""
+import logging
+
+import numpy as np
+import pytest
+
+from coupling import (ACCELERATIONS, SCHEMES, AccelerationSettings, ConvergenceMeasure,
+                      CouplingError, CouplingSettings, run)
+
+
+class Affine:
+    """Participant out = f(A in + b) (f = identity or a mild nonlinearity), with an integrator
+    state s += dt * mean(out) to check checkpoints."""
+
+    def __init__(self, name, write, read, A, b, nonlinear=False):
+        self.name, self.write_fields, self.read = name, (write,), read
+        self.A, self.b, self.nonlinear = A, b, nonlinear
+        self.state = 0.0
+        self.calls = 0
+
+    def initial_data(self):
+        return {self.write_fields[0]: np.zeros(self.A.shape[0])}
+
+    def solve_window(self, time, dt, data_in):
+        self.calls += 1
+        y = self.A @ data_in[self.read] + self.b
+        if self.nonlinear:
+            y = y + 0.1 * np.sin(y)
+        self.state += dt * float(np.mean(y))
+        return {self.write_fields[0]: y}
+
+    def store_checkpoint(self):
+        return self.state
+
+    def restore_checkpoint(self, checkpoint):
+        self.state = checkpoint
+
+
+def _pair(n=6, gain=0.4, seed=0, nonlinear=False):
+    rng = np.random.default_rng(seed)
+    A1 = rng.normal(size=(n, n))
+    A2 = rng.normal(size=(n, n))
+    A1 *= np.sqrt(gain) / np.linalg.norm(A1, 2)
+    A2 *= np.sqrt(gain) / np.linalg.norm(A2, 2)
+    s = Affine("structure", "d", "p", A1, rng.normal(size=n), nonlinear)
+    f = Affine("fluid", "p", "d", A2, rng.normal(size=n), nonlinear)
+    return s, f
+
+
+def _fixed_point(s, f):
+    n = s.A.shape[0]
+    # d = A1 p + b1, p = A2 d + b2  ->  p = A2 (A1 p + b1) + b2
+    p = np.linalg.solve(np.eye(n) - f.A @ s.A, f.A @ s.b + f.b)
+    return s.A @ p + s.b, p
+
+
+def _settings(scheme, acceleration, tol=1e-10, **kw):
+    acc = AccelerationSettings(relaxation=0.5, initial_relaxation=0.5, **kw)
+    return CouplingSettings(scheme=scheme, acceleration=acceleration, acceleration_settings=acc,
+                            measures=[ConvergenceMeasure("d", "absolute", tol),
+                                      ConvergenceMeasure("p", "absolute", tol)],
+                            max_iterations=200)
+
+
+@pytest.mark.parametrize("scheme", ["implicit-serial", "implicit-parallel"])
+@pytest.mark.parametrize("acceleration", sorted(ACCELERATIONS))
+@pytest.mark.parametrize("nonlinear", [False, True])
+def test_every_implicit_scheme_and_acceleration_converges(scheme, acceleration, nonlinear):
+    s, f = _pair(nonlinear=nonlinear)
+    out = {}
+    log = run(s, f, _settings(scheme, acceleration), dt=0.1, n_windows=3,
+              on_window=lambda w, data: out.update(data))
+    assert all(w.converged for w in log.windows)
+    # the converged data satisfy both participants' equations
+    d, p = out["d"], out["p"]
+    g = (lambda y: y + 0.1 * np.sin(y)) if nonlinear else (lambda y: y)
+    assert np.allclose(d, g(s.A @ p + s.b), atol=1e-8)
+    assert np.allclose(p, g(f.A @ d + f.b), atol=1e-8)
+    if not nonlinear:
+        d_star, p_star = _fixed_point(s, f)
+        assert np.allclose(d, d_star, atol=1e-8) and np.allclose(p, p_star, atol=1e-8)
+
+
+def test_explicit_scheme_is_one_staggered_pass_per_window():
+    s, f = _pair()
+    log = run(s, f, _settings("explicit", "constant"), dt=0.1, n_windows=4)
+    assert [w.iterations for w in log.windows] == [1, 1, 1, 1]
+    assert s.calls == f.calls == 4
+
+
+@pytest.mark.parametrize("n", [3, 6, 10])
+def test_iqn_ils_solves_affine_map_after_n_plus_1_evaluations(n):
+    # non-contractive map (|A2 A1| = 1.5): plain iteration diverges, IQN-ILS solves it
+    s, f = _pair(n=n, gain=1.5, seed=3)
+    settings = _settings("implicit-serial", "iqn-ils", tol=1e-9)
+    settings.measures = [ConvergenceMeasure("p", "absolute", 1e-9)]  # the accelerated field
+    log = run(s, f, settings, dt=0.1, n_windows=1)
+    # evaluation k has k - 1 secant columns; with n of them (evaluation n + 1) the update is
+    # exact, and the next evaluation (number n + 2) confirms it
+    assert log.windows[0].converged
+    assert log.windows[0].iterations <= n + 2
+    assert log.windows[0].residuals[n]["p"] > 1e-9  # and not before: exactly n + 2
+
+
+def test_constant_relaxation_diverges_on_the_non_contractive_map():
+    s, f = _pair(n=6, gain=1.5, seed=3)
+    settings = _settings("implicit-serial", "constant")
+    settings.acceleration_settings.relaxation = 1.0
+    settings.max_iterations = 30
+    with pytest.raises(CouplingError, match="not converged"):
+        run(s, f, settings, dt=0.1, n_windows=1)
+
+
+def test_checkpoint_restores_state_exactly():
+    s, f = _pair()
+    run(s, f, _settings("implicit-serial", "aitken"), dt=0.5, n_windows=1)
+    d_star, p_star = _fixed_point(s, f)
+    # the integrator saw only the final iterate, not the sum over iterations
+    assert s.state == pytest.approx(0.5 * np.mean(d_star), abs=1e-9)
+    assert f.state == pytest.approx(0.5 * np.mean(p_star), abs=1e-9)
+    assert s.calls > 3
+
+
+def test_max_iterations_accept_logs_and_continues(caplog):
+    s, f = _pair()
+    settings = _settings("implicit-serial", "constant")
+    settings.max_iterations = 2
+    settings.on_max_iterations = "accept"
+    with caplog.at_level(logging.WARNING):
+        log = run(s, f, settings, dt=0.1, n_windows=2)
+    assert [w.converged for w in log.windows] == [False, False]
+    assert [w.iterations for w in log.windows] == [2, 2]
+    assert "accepted" in caplog.text
+
+
+def test_sufficient_measure_ends_window_early():
+    s, f = _pair()
+    settings = _settings("implicit-serial", "iqn-ils")
+    settings.measures = [ConvergenceMeasure("d", "absolute", 1e-12),
+                         ConvergenceMeasure("p", "absolute", 1e-2, sufficient=True)]
+    loose = run(s, f, settings, dt=0.1, n_windows=1).windows[0]
+    s2, f2 = _pair()
+    settings.measures[1] = ConvergenceMeasure("p", "absolute", 1e-2)
+    strict = run(s2, f2, settings, dt=0.1, n_windows=1).windows[0]
+    assert loose.converged and strict.converged
+    assert loose.iterations < strict.iterations
+
+
+def test_log_records_residuals_relaxation_and_time():
+    s, f = _pair()
+    w = run(s, f, _settings("implicit-serial", "aitken"), dt=0.1, n_windows=1).windows[0]
+    assert len(w.residuals) == len(w.relaxation) == w.iterations
+    assert w.relaxation[0] == 0.5  # initial relaxation
+    assert set(w.seconds) == {"structure", "fluid"} and all(v >= 0 for v in w.seconds.values())
+    assert w.residuals[-1]["d"] <= 1e-10 < w.residuals[0]["d"]
+
+
+@pytest.mark.parametrize("kw,match", [(dict(scheme="gauss"), "scheme"),
+                                      (dict(acceleration="broyden"), "acceleration"),
+                                      (dict(on_max_iterations="ignore"), "on_max_iterations"),
+                                      (dict(max_iterations=0), "max_iterations")])
+def test_bad_settings_raise(kw, match):
+    with pytest.raises(ValueError, match=match):
+        CouplingSettings(**kw)
+
+
+def test_registries_list_required_names():
+    assert {"explicit", "implicit-serial", "implicit-parallel"} <= set(SCHEMES)
+    assert {"constant", "aitken", "iqn-ils"} <= set(ACCELERATIONS)
