@@ -126,7 +126,9 @@ def couple(constrained: bool, bulk_modulus, acceleration="constant", relaxation=
     data = {}
     try:
         # the column goes first: the lid then solves with this window's target volume
-        log = run(column, lid, settings, dt, n_windows, on_window=lambda w, d: data.update(d))
+        with np.errstate(over="ignore", invalid="ignore"):  # a diverging run overflows
+            log = run(column, lid, settings, dt, n_windows,
+                      on_window=lambda w, d: data.update(d))
     except CouplingError as exc:
         return None, str(exc).split(";")[0], data
     return log, "", data
