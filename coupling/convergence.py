@@ -37,10 +37,11 @@ class ConvergenceMeasure:
 
     def residual(self, x: np.ndarray, x_tilde: np.ndarray) -> float:
         """The measured norm: absolute |x_tilde - x|, or relative |x_tilde - x| / |x_tilde|."""
-        diff = float(np.linalg.norm(x_tilde - x))
+        with np.errstate(over="ignore", invalid="ignore"):  # a diverging iteration overflows
+            diff = float(np.linalg.norm(x_tilde - x))
+            scale = float(np.linalg.norm(x_tilde))
         if self.kind == "absolute":
             return diff
-        scale = float(np.linalg.norm(x_tilde))
         return diff / scale if scale > 0.0 else (0.0 if diff == 0.0 else np.inf)
 
     def holds(self, residual: float) -> bool:

@@ -15,6 +15,12 @@ the accelerated vector is each accelerated field scaled by its norm at the windo
 iteration (so fields of different units weigh alike in the quasi-Newton least squares).
 On reaching ``max_iterations`` without convergence the scheme raises :class:`CouplingError`
 (``on_max_iterations = "error"``) or accepts the last iterate and logs it (``"accept"``).
+
+Every scheme starts a window from a prediction of every field made from the converged values
+of past windows x^n, x^{n-1}, x^{n-2} (``extrapolation_order``, after preCICE's
+``extrapolation-order``): 0 keeps x^n (default); 1 takes 2 x^n - x^{n-1} (linear); 2 takes
+2.5 x^n - 2 x^{n-1} + 0.5 x^{n-2} (preCICE's second order). While fewer past windows exist
+the order is lowered.
 """
 from __future__ import annotations
 
@@ -33,6 +39,8 @@ log = logging.getLogger(__name__)
 
 SCHEMES: dict[str, Callable] = {}
 ON_MAX_ITERATIONS = ("error", "accept")
+EXTRAPOLATION_WEIGHTS = {0: (1.0,), 1: (2.0, -1.0), 2: (2.5, -2.0, 0.5)}
+"""Weights of x^n, x^{n-1}, x^{n-2} in the prediction of a window's starting values."""
 
 
 def register_scheme(name: str):
@@ -44,7 +52,12 @@ def register_scheme(name: str):
 
 
 class CouplingError(RuntimeError):
-    """A window did not converge within ``max_iterations`` and the settings say stop."""
+    """A window did not converge within ``max_iterations`` and the settings say stop;
+    ``window`` is its :class:`WindowLog` (residual history included)."""
+
+    def __init__(self, message: str, window: "WindowLog"):
+        super().__init__(message)
+        self.window = window
 
 
 @dataclass
@@ -55,7 +68,8 @@ class CouplingSettings:
     acceleration_settings : :class:`AccelerationSettings`; measures : list of
     :class:`ConvergenceMeasure`; max_iterations : per window; on_max_iterations : ``error`` or
     ``accept``; accelerated_fields : fields in the fixed-point vector (default: the second's
-    fields for serial, all fields for parallel).
+    fields for serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction
+    of each window's starting values from past windows.
     """
 
     scheme: str = "implicit-serial"
@@ -65,6 +79,7 @@ class CouplingSettings:
     max_iterations: int = 50
     on_max_iterations: str = "error"
     accelerated_fields: Optional[tuple] = None
+    extrapolation_order: int = 0
 
     def __post_init__(self):
         if self.scheme not in SCHEMES:
@@ -78,6 +93,9 @@ class CouplingSettings:
                              f"got {self.on_max_iterations!r}")
         if self.max_iterations < 1:
             raise ValueError(f"max_iterations must be >= 1, got {self.max_iterations!r}")
+        if self.extrapolation_order not in EXTRAPOLATION_WEIGHTS:
+            raise ValueError(f"extrapolation_order must be one of {sorted(EXTRAPOLATION_WEIGHTS)}, "
+                             f"got {self.extrapolation_order!r}")
 
 
 @dataclass
@@ -134,15 +152,28 @@ def run(first: Participant, second: Participant, settings: CouplingSettings, dt:
     acceleration = ACCELERATIONS[settings.acceleration](settings.acceleration_settings)
     iterate = SCHEMES[settings.scheme]
     coupling_log = CouplingLog()
+    history = [data]  # converged fields of past windows, newest first
     for k in range(n_windows):
         window = WindowLog(index=k, time=t0 + k * dt)
-        data = iterate(first, second, settings, acceleration, data, window.time, dt, window)
+        data = iterate(first, second, settings, acceleration,
+                       _extrapolate(history, settings.extrapolation_order), window.time, dt,
+                       window)
+        history = [data] + history[:settings.extrapolation_order]
         coupling_log.windows.append(window)
         log.debug("window %d: %d iterations, converged %s", k, window.iterations,
                   window.converged)
         if on_window is not None:
             on_window(window, data)
     return coupling_log
+
+
+def _extrapolate(history: list, order: int) -> dict:
+    """Prediction of every field from ``history`` (newest first) at the highest order <= ``order``
+    that the history allows."""
+    weights = EXTRAPOLATION_WEIGHTS[min(order, len(history) - 1)]
+    if len(weights) == 1:
+        return history[0]
+    return {n: sum(w * h[n] for w, h in zip(weights, history)) for n in history[0]}
 
 
 @register_scheme("explicit")
@@ -209,7 +240,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         msg = (f"window {window.index} (t = {t:g} s) not converged after {window.iterations} "
                f"iterations; last residuals {window.residuals[-1]}")
         if settings.on_max_iterations == "error":
-            raise CouplingError(msg)
+            raise CouplingError(msg, window)
         log.warning("%s; accepted", msg)
     acceleration.end_window()
     return x_tilde

@@ -107,8 +107,9 @@ def test_constant_relaxation_diverges_on_the_non_contractive_map():
     settings = _settings("implicit-serial", "constant")
     settings.acceleration_settings.relaxation = 1.0
     settings.max_iterations = 30
-    with pytest.raises(CouplingError, match="not converged"):
+    with pytest.raises(CouplingError, match="not converged") as err:
         run(s, f, settings, dt=0.1, n_windows=1)
+    assert err.value.window.iterations == 30 and len(err.value.window.residuals) == 30
 
 
 def test_checkpoint_restores_state_exactly():
@@ -155,10 +156,42 @@ def test_log_records_residuals_relaxation_and_time():
     assert w.residuals[-1]["d"] <= 1e-10 < w.residuals[0]["d"]
 
 
+class Drifting(Affine):
+    """Affine participant whose offset grows linearly in time: out = A in + b + (t + dt) c,
+    so the coupled solution at the window ends is linear in time."""
+
+    def __init__(self, *args, drift):
+        super().__init__(*args)
+        self.b0, self.drift = self.b, drift
+
+    def solve_window(self, time, dt, data_in):
+        self.b = self.b0 + (time + dt) * self.drift
+        return super().solve_window(time, dt, data_in)
+
+
+@pytest.mark.parametrize("order,first_exact_window", [(0, None), (1, 2), (2, 3)])
+def test_extrapolation_predicts_linear_in_time_data_exactly(order, first_exact_window):
+    s, f = _pair()
+    rng = np.random.default_rng(1)
+    s = Drifting(s.name, "d", "p", s.A, s.b, drift=rng.normal(size=6))
+    f = Drifting(f.name, "p", "d", f.A, f.b, drift=rng.normal(size=6))
+    settings = _settings("implicit-serial", "iqn-ils")
+    settings.extrapolation_order = order
+    its = [w.iterations for w in run(s, f, settings, dt=0.1, n_windows=6).windows]
+    # the initial data (zeros) are off the line: the prediction is exact once `order + 1`
+    # converged windows feed it, and then the first iteration already converges
+    if first_exact_window is None:
+        assert all(i > 1 for i in its)
+    else:
+        assert all(i > 1 for i in its[:first_exact_window])
+        assert its[first_exact_window:] == [1] * (6 - first_exact_window)
+
+
 @pytest.mark.parametrize("kw,match", [(dict(scheme="gauss"), "scheme"),
                                       (dict(acceleration="broyden"), "acceleration"),
                                       (dict(on_max_iterations="ignore"), "on_max_iterations"),
-                                      (dict(max_iterations=0), "max_iterations")])
+                                      (dict(max_iterations=0), "max_iterations"),
+                                      (dict(extrapolation_order=3), "extrapolation_order")])
 def test_bad_settings_raise(kw, match):
     with pytest.raises(ValueError, match=match):
         CouplingSettings(**kw)
