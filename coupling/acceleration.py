@@ -14,6 +14,12 @@ vector (the accelerated fields concatenated, each scaled by the scheme).
   and set x+ = x_tilde + W a. Columns whose QR diagonal falls below ``filter_limit`` times their
   norm are dropped (QR2 filter, Haelterman et al. 2016). The first iteration of the first window
   (or when no column is left) is a constant relaxation with ``initial_relaxation``.
+* ``iqn-imvj``: multi-vector quasi-Newton (Lindner, Mehl, Neumann & Uekermann 2015): the same
+  secants, but the inverse Jacobian J (maps residual changes to output changes) is the least
+  change from the previous window's J_prev that meets them,
+  J = J_prev + (W - J_prev V)(V^T V)^-1 V^T, and x+ = x_tilde - J r; J is kept for the next
+  window instead of its columns. Dense n x n: for interfaces of moderate size. With
+  J_prev = 0 it is IQN-ILS without reuse.
 """
 from __future__ import annotations
 
@@ -172,3 +178,42 @@ def _qr2_filter(V: np.ndarray, limit: float) -> np.ndarray:
         basis.append(v / rest)
         keep.append(j)
     return np.asarray(keep, dtype=int)
+
+
+@register_acceleration("iqn-imvj")
+class IQNIMVJ(IQNILS):
+    def __init__(self, settings):
+        super().__init__(settings)
+        self.jacobian = None  # (n, n) inverse Jacobian of the previous window
+
+    def end_window(self):
+        if self.window_v:
+            self.jacobian = self._current_jacobian(self.window_v, self.window_w)
+
+    def _current_jacobian(self, v_cols, w_cols):
+        V = np.stack(v_cols, axis=1)
+        W = np.stack(w_cols, axis=1)
+        keep = _qr2_filter(V, self.s.filter_limit)
+        V, W = V[:, keep], W[:, keep]
+        base = self.jacobian if self.jacobian is not None else np.zeros((V.shape[0],) * 2)
+        if V.shape[1] == 0:
+            return base
+        q, rr = np.linalg.qr(V)
+        # (W - J_prev V)(V^T V)^-1 V^T = (W - J_prev V) R^-1 Q^T
+        return base + np.linalg.solve(rr.T, (W - base @ V).T).T @ q.T
+
+    def update(self, x, x_tilde):
+        r = x_tilde - x
+        if self.previous is not None:
+            r_old, xt_old = self.previous
+            self.window_v.insert(0, r - r_old)
+            self.window_w.insert(0, x_tilde - xt_old)
+        self.previous = (r.copy(), x_tilde.copy())
+        self.columns_used = len(self.window_v)
+        if not self.window_v and self.jacobian is None:
+            return self._relax(x, x_tilde, self.s.initial_relaxation)
+        cols = self.window_v[: self.s.max_columns]
+        jac = self._current_jacobian(cols, self.window_w[: self.s.max_columns]) if cols \
+            else self.jacobian
+        self.last_relaxation = float("nan")
+        return x_tilde - jac @ r
