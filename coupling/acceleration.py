@@ -129,13 +129,18 @@ class IQNILS(Acceleration):
             self.past.insert(0, (self.window_v, self.window_w))
             del self.past[self.s.reuse:]
 
-    def update(self, x, x_tilde):
+    def _record_secant(self, x, x_tilde) -> np.ndarray:
+        """Add this iteration's differences to the window's columns; returns r = x_tilde - x."""
         r = x_tilde - x
         if self.previous is not None:
             r_old, xt_old = self.previous
             self.window_v.insert(0, r - r_old)
             self.window_w.insert(0, x_tilde - xt_old)
         self.previous = (r.copy(), x_tilde.copy())
+        return r
+
+    def update(self, x, x_tilde):
+        r = self._record_secant(x, x_tilde)
         v_cols = list(self.window_v)
         w_cols = list(self.window_w)
         for pv, pw in self.past:
@@ -203,12 +208,7 @@ class IQNIMVJ(IQNILS):
         return base + np.linalg.solve(rr.T, (W - base @ V).T).T @ q.T
 
     def update(self, x, x_tilde):
-        r = x_tilde - x
-        if self.previous is not None:
-            r_old, xt_old = self.previous
-            self.window_v.insert(0, r - r_old)
-            self.window_w.insert(0, x_tilde - xt_old)
-        self.previous = (r.copy(), x_tilde.copy())
+        r = self._record_secant(x, x_tilde)
         self.columns_used = len(self.window_v)
         if not self.window_v and self.jacobian is None:
             return self._relax(x, x_tilde, self.s.initial_relaxation)
