@@ -89,12 +89,19 @@ class MembraneModel:
     volume_sign: float = 1.0
 
     def __post_init__(self):
+        object.__setattr__(self, "_node_free_mass",
+                           np.where(self.node_fixed, 0.0, self.node_mass))
         object.__setattr__(self, "_bend_chord_nodes",
                            np.ascontiguousarray(self.bend_nodes[:, [0, 2]]))
 
     @property
     def n_nodes(self) -> int:
         return self.node_rest_position.shape[0]
+
+    @property
+    def node_free_mass(self) -> np.ndarray:
+        """(n,) kg: node mass, zero on fixed nodes (App. B's ``Mcorrected``)."""
+        return self._node_free_mass
 
     @property
     def bend_chord_nodes(self) -> np.ndarray:

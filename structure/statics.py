@@ -60,10 +60,10 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .kernels import (bending_force, limit_bending, limit_in_plane_strain,
-                      node_area_and_normal, project_volume_masked, wall_collision)
+from .kernels import (limit_bending, limit_in_plane_strain, project_volume_masked,
+                      wall_collision)
 from .model import MembraneModel, MembraneState
-from .thesis import ConstraintSettings, CourantError
+from .thesis import ConstraintSettings, CourantError, external_force
 from .volume import liquid_volume, liquid_volume_gradient, lower_hemisphere_volume
 
 PressureField = Callable[[np.ndarray], np.ndarray]
@@ -169,8 +169,6 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
     s, cs = settings, settings.constraints
     x = state.node_position.copy()
     inv_mass = model.node_inv_mass
-    gravity = np.where(model.node_fixed, 0.0, model.node_mass)[:, None] * np.asarray(
-        body_acceleration, dtype=float)[None, :]
     # exactly ``strain_passes`` passes: App. G's stopping rule (error below the limit) would
     # switch the in-plane response between soft and rigid as the error crosses the limit
     strain_args = (inv_mass, model.spring_nodes, model.spring_rest_length,
@@ -195,7 +193,7 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
                            or strain_error(model, x)[0] <= cs.error_limit):
             break
         x, level, determined, move, converged, steps = _relax_stage(
-            model, x, pressure, gravity, s, stage_args, volume_target, start_volume,
+            model, x, pressure, body_acceleration, s, stage_args, volume_target, start_volume,
             ramp_steps, volume_args, contact_radius, max_move, level, steps)
     volume_slack = s.volume_tolerance * 2.0 * lower_hemisphere_volume(model.radius)
     if volume_target is not None:
@@ -210,7 +208,7 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
     return MembraneState(x, np.zeros_like(x)), info
 
 
-def _relax_stage(model, x, pressure, gravity, s, strain_args, volume_target, start_volume,
+def _relax_stage(model, x, pressure, body_acceleration, s, strain_args, volume_target, start_volume,
                  ramp_steps, volume_args, contact_radius, max_move, level, first_step):
     """Pseudo-time loop of :func:`solve_equilibrium` from ``x`` (see module doc), at most
     ``s.max_steps`` steps numbered from ``first_step + 1``; returns (x, level, determined,
@@ -226,10 +224,8 @@ def _relax_stage(model, x, pressure, gravity, s, strain_args, volume_target, sta
     steps = first_step
     for steps in range(first_step + 1, first_step + s.max_steps + 1):
         node_pressure = pressure(x) + level
-        area, normal = node_area_and_normal(x, model.grid_size, model.normal_sign)
-        force = (area * node_pressure)[:, None] * normal + gravity
-        bending_force(x, normal, model.bend_nodes, model.bend_rest_length, model.bend_stiffness,
-                      force, s.offset_limited_bending)
+        force = external_force(model, x, node_pressure, body_acceleration,
+                               s.offset_limited_bending)
         v = (1.0 - s.damping) * v + dt * inv_mass[:, None] * force
         x_old = x
         x = x + dt * v

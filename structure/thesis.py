@@ -81,17 +81,15 @@ def apply_constraints(model: MembraneModel, pos: np.ndarray, cs: ConstraintSetti
 
 
 def external_force(model: MembraneModel, pos: np.ndarray, node_pressure: np.ndarray,
-                   body_acceleration: np.ndarray):
-    """Bending + pressure + gravity forces (n, 3) N on the current shape (Eqn 4.6 less damping).
-
-    Returns (force, node_area (n,) m^2, node_normal (n, 3))."""
+                   body_acceleration, offset_limited_bending: bool = False) -> np.ndarray:
+    """Pressure + gravity + bending forces (n, 3) N on the current shape (Eqn 4.6 less
+    damping); ``offset_limited_bending`` see :func:`structure.kernels.bending_force`."""
     area, normal = node_area_and_normal(pos, model.grid_size, model.normal_sign)
-    force = (area * node_pressure)[:, None] * normal
+    force = (area * node_pressure)[:, None] * normal + model.node_free_mass[:, None] * \
+        np.asarray(body_acceleration, dtype=float)[None, :]
     bending_force(pos, normal, model.bend_nodes, model.bend_rest_length, model.bend_stiffness,
-                  force)
-    free_mass = np.where(model.node_fixed, 0.0, model.node_mass)
-    force += free_mass[:, None] * np.asarray(body_acceleration, dtype=float)[None, :]
-    return force, area, normal
+                  force, offset_limited_bending)
+    return force
 
 
 @dataclass(frozen=True)
@@ -152,7 +150,7 @@ def step(model: MembraneModel, state: ThesisState, node_pressure: np.ndarray,
     dt = settings.dt
     x = state.node_position.copy()
     v = state.node_velocity.copy()
-    force, _, _ = external_force(model, x, node_pressure, body_acceleration)
+    force = external_force(model, x, node_pressure, body_acceleration)
     if settings.steady_state:
         acc = np.zeros_like(x)
         prev_x, prev_v = state.previous_position, state.previous_velocity
@@ -161,8 +159,7 @@ def step(model: MembraneModel, state: ThesisState, node_pressure: np.ndarray,
         acc = (v - state.previous_velocity) / dt
         prev_x, prev_v = x.copy(), v.copy()
     if settings.damping == "critical":
-        c = 2.0 * np.sqrt(np.where(model.node_fixed, 0.0, model.node_mass)
-                          * node_bending_stiffness(model))
+        c = 2.0 * np.sqrt(model.node_free_mass * node_bending_stiffness(model))
     elif settings.damping == "courant-drag":
         c = state.node_damping
     else:
