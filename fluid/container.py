@@ -1,0 +1,69 @@
+"""Containers as level sets: negative inside (m), zero on the wall, in the tank frame.
+
+A container is evaluated on coordinate arrays: (r, z) on an axisymmetric grid, (x, y, z) on a
+3-D grid (broadcasting). Distances are exact for the sphere and the side of a cylinder and
+take the max/min of the pieces elsewhere, which is all the cut-cell geometry needs (the zero
+set is exact).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+def _radius(coords) -> np.ndarray:
+    """Distance from the z axis: r itself (2-D) or hypot(x, y) (3-D)."""
+    return coords[0] if len(coords) == 2 else np.hypot(coords[0], coords[1])
+
+
+@dataclass(frozen=True)
+class SphericalTank:
+    """Sphere of ``radius`` (m) centred at the origin, with a port stub of ``port_radius`` (m)
+    running straight down from the bottom pole (through the grid's bottom boundary, where the
+    port condition is applied). ``port_radius`` 0: no stub."""
+
+    radius: float
+    port_radius: float = 0.0
+
+    def __post_init__(self):
+        if not self.radius > 0:
+            raise ValueError(f"tank radius must be > 0 m, got {self.radius}")
+        if not 0 <= self.port_radius < self.radius:
+            raise ValueError(f"port radius must be in [0, {self.radius}) m, got {self.port_radius}")
+
+    def level_set(self, coords) -> np.ndarray:
+        r = _radius(coords)
+        z = coords[-1]
+        sphere = np.sqrt(r * r + z * z) - self.radius
+        if self.port_radius == 0:
+            return sphere
+        stub = np.maximum(r - self.port_radius, z + 0.5 * self.radius)
+        return np.minimum(sphere, stub)
+
+    def bounds(self, port_length: float):
+        """(r_max, z_min, z_max) of a grid that holds the tank and ``port_length`` m of stub."""
+        return self.radius, -self.radius - port_length, self.radius
+
+
+@dataclass(frozen=True)
+class UprightCylinder:
+    """Cylinder of ``radius`` (m) about the z axis between ``z_min`` and ``z_max`` (m); an end
+    beyond the grid is open there (a port on that grid side)."""
+
+    radius: float
+    z_min: float
+    z_max: float
+
+    def __post_init__(self):
+        if not self.radius > 0 or not self.z_max > self.z_min:
+            raise ValueError(f"cylinder needs radius > 0 m and z_max > z_min, got radius="
+                             f"{self.radius}, z_min={self.z_min}, z_max={self.z_max}")
+
+    def level_set(self, coords) -> np.ndarray:
+        r = _radius(coords)
+        z = coords[-1]
+        return np.maximum(r - self.radius, np.maximum(self.z_min - z, z - self.z_max))
+
+
+CONTAINERS = {"sphere": SphericalTank, "cylinder": UprightCylinder}

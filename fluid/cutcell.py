@@ -1,0 +1,429 @@
+"""Cut-cell geometry from a level set on the grid's vertex lattice (numba).
+
+The liquid is the region where two level sets are both negative (phi_a: the container,
+phi_b: the liquid side of the interface), each given at the vertices of a uniform lattice and
+taken linear on each simplex of the cells (two triangles per rectangle, the six Kuhn
+tetrahedra per cube). Each simplex is clipped by one level set and then by the other, so
+corners where the interface meets the tank wall are exact too (max(phi_a, phi_b) is not
+linear there). On that piecewise-linear surface the liquid volume of every cell and the open (wetted)
+fraction of every face are exact, so the discrete liquid volume changes by exactly the flux the
+faces and the moving boundary carry (geometric conservation).
+
+Axisymmetric lattices weight by the radius (first coordinate): fractions are of r dr dz, as
+FiPy's ``CylindricalGrid2D`` measures cell volumes and face areas.
+
+Lattice arrays are indexed [i, j] (2-D, i along r or x) or [i, j, k] (3-D), with vertex spacing
+``h`` (m) per axis.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+JIT = dict(cache=True, nogil=True)
+
+
+@njit(**JIT, inline="always")
+def _crossing(a, b):
+    """Parameter t in (0, 1) where the linear function with end values a, b vanishes."""
+    return a / (a - b)
+
+
+@njit(**JIT)
+def _interval_wet(fa0, fa1, fb0, fb1):
+    """(lo, hi) parameters of the part of [0, 1] where both linear functions are < 0."""
+    lo = 0.0
+    hi = 1.0
+    for f0, f1 in ((fa0, fa1), (fb0, fb1)):
+        if f0 >= 0.0 and f1 >= 0.0:
+            return 0.0, 0.0
+        if f0 < 0.0 and f1 >= 0.0:
+            hi = min(hi, _crossing(f0, f1))
+        elif f0 >= 0.0 and f1 < 0.0:
+            lo = max(lo, _crossing(f0, f1))
+    return lo, max(lo, hi)
+
+
+@njit(**JIT)
+def _segment_wet(x0, x1, fa0, fa1, fb0, fb1, weighted):
+    """Wetted fraction of the segment x0 -> x1 (coordinates along it); ``weighted``: the
+    measure is x dx (x = radius), else dx."""
+    lo, hi = _interval_wet(fa0, fa1, fb0, fb1)
+    if hi <= lo:
+        return 0.0
+    a = x0 + lo * (x1 - x0)
+    b = x0 + hi * (x1 - x0)
+    if weighted:
+        full = x1 * x1 - x0 * x0
+        return (b * b - a * a) / full if full != 0.0 else 0.0
+    return hi - lo
+
+
+@njit(**JIT)
+def _clip_polygon(n, px, py, f, g, ox, oy, og):
+    """Keep the part f < 0 of polygon (px, py)[:n] (Sutherland-Hodgman); ``g`` is a second
+    function linear on the polygon, carried to the new vertices. Writes (ox, oy, og); returns
+    the new vertex count."""
+    m = 0
+    for a in range(n):
+        b = (a + 1) % n
+        if f[a] < 0.0:
+            ox[m] = px[a]
+            oy[m] = py[a]
+            og[m] = g[a]
+            m += 1
+        if (f[a] < 0.0) != (f[b] < 0.0):
+            t = _crossing(f[a], f[b])
+            ox[m] = px[a] + t * (px[b] - px[a])
+            oy[m] = py[a] + t * (py[b] - py[a])
+            og[m] = g[a] + t * (g[b] - g[a])
+            m += 1
+    return m
+
+
+@njit(**JIT)
+def _triangle_wet(px, py, fa, fb):
+    """Area and first moment (integral of x dA) of the part of a triangle where both linear
+    functions fa, fb (vertex values (3,)) are negative."""
+    qx = np.empty(4)
+    qy = np.empty(4)
+    qg = np.empty(4)
+    n = _clip_polygon(3, px, py, fa, fb, qx, qy, qg)
+    if n == 0:
+        return 0.0, 0.0
+    rx = np.empty(5)
+    ry = np.empty(5)
+    rg = np.empty(5)
+    n = _clip_polygon(n, qx, qy, qg, qg, rx, ry, rg)
+    area = 0.0
+    moment = 0.0
+    for a in range(n):
+        b = (a + 1) % n
+        cross = rx[a] * ry[b] - rx[b] * ry[a]
+        area += cross
+        moment += (rx[a] + rx[b]) * cross
+    return 0.5 * abs(area), abs(moment) / 6.0
+
+
+@njit(**JIT)
+def _tet_volume(p):
+    """Volume of the tetrahedron with vertex rows p (4, 3)."""
+    ax, ay, az = p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2]
+    bx, by, bz = p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2]
+    cx, cy, cz = p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2]
+    return abs(ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0
+
+
+@njit(**JIT)
+def _tet_wet_volume(p, phi):
+    """Volume of the part of a tetrahedron (vertices p (4, 3)) where the linear phi < 0."""
+    neg = 0
+    for a in range(4):
+        if phi[a] < 0.0:
+            neg += 1
+    if neg == 0:
+        return 0.0
+    full = _tet_volume(p)
+    if neg == 4:
+        return full
+    if neg == 1 or neg == 3:
+        lone_negative = neg == 1
+        lone = 0
+        for a in range(4):
+            if (phi[a] < 0.0) == lone_negative:
+                lone = a
+        frac = 1.0
+        for b in range(4):
+            if b != lone:
+                frac *= _crossing(phi[lone], phi[b])
+        return full * (frac if lone_negative else 1.0 - frac)
+    q = np.empty((6, 3))
+    _two_negative_prism(p, phi, phi, q, np.empty(6))
+    return _prism_volume(q)
+
+
+@njit(**JIT)
+def _two_negative_prism(p, phi, g, q, qg):
+    """The part phi < 0 of a tetrahedron with exactly two negative vertices: a triangular
+    prism q (6, 3) (triangles q[0:3], q[3:6]); g is carried to qg (6,)."""
+    a0 = -1
+    a1 = -1
+    b0 = -1
+    b1 = -1
+    for a in range(4):
+        if phi[a] < 0.0:
+            if a0 < 0:
+                a0 = a
+            else:
+                a1 = a
+        else:
+            if b0 < 0:
+                b0 = a
+            else:
+                b1 = a
+    k = 0
+    for a in (a0, a1):
+        q[k] = p[a]
+        qg[k] = g[a]
+        k += 1
+        for b in (b0, b1):
+            t = _crossing(phi[a], phi[b])
+            q[k] = p[a] + t * (p[b] - p[a])
+            qg[k] = g[a] + t * (g[b] - g[a])
+            k += 1
+
+
+@njit(**JIT)
+def _prism_volume(q):
+    t = np.empty((4, 3))
+    vol = 0.0
+    for tet in ((0, 1, 2, 3), (1, 2, 3, 4), (2, 3, 4, 5)):
+        for r in range(4):
+            t[r] = q[tet[r]]
+        vol += _tet_volume(t)
+    return vol
+
+
+_PRISM_TETS = np.array([[0, 1, 2, 3], [1, 2, 3, 4], [2, 3, 4, 5]], dtype=np.int64)
+
+
+@njit(**JIT)
+def _tet_wet_volume2(p, fa, fb):
+    """Volume of the part of a tetrahedron where both linear functions fa, fb are negative:
+    clip by fa into tetrahedra (1 or 3), then each by fb."""
+    neg = 0
+    for a in range(4):
+        if fa[a] < 0.0:
+            neg += 1
+    if neg == 0:
+        return 0.0
+    if neg == 4:
+        return _tet_wet_volume(p, fb)
+    tp = np.empty((4, 3))
+    tg = np.empty(4)
+    if neg == 1 or neg == 3:
+        lone_negative = neg == 1
+        lone = 0
+        for a in range(4):
+            if (fa[a] < 0.0) == lone_negative:
+                lone = a
+        if lone_negative:
+            # corner tetrahedron at the lone vertex
+            tp[0] = p[lone]
+            tg[0] = fb[lone]
+            k = 1
+            for b in range(4):
+                if b != lone:
+                    t = _crossing(fa[lone], fa[b])
+                    tp[k] = p[lone] + t * (p[b] - p[lone])
+                    tg[k] = fb[lone] + t * (fb[b] - fb[lone])
+                    k += 1
+            return _tet_wet_volume(tp, tg)
+        # tetrahedron minus the corner at the lone positive vertex: prism of the three
+        # negative vertices and the three crossings on their edges to the lone vertex
+        q = np.empty((6, 3))
+        qg = np.empty(6)
+        k = 0
+        for b in range(4):
+            if b != lone:
+                q[k] = p[b]
+                qg[k] = fb[b]
+                t = _crossing(fa[b], fa[lone])
+                q[k + 3] = p[b] + t * (p[lone] - p[b])
+                qg[k + 3] = fb[b] + t * (fb[lone] - fb[b])
+                k += 1
+    else:
+        q = np.empty((6, 3))
+        qg = np.empty(6)
+        _two_negative_prism(p, fa, fb, q, qg)
+    vol = 0.0
+    for s in range(3):
+        for r in range(4):
+            tp[r] = q[_PRISM_TETS[s, r]]
+            tg[r] = qg[_PRISM_TETS[s, r]]
+        vol += _tet_wet_volume(tp, tg)
+    return vol
+
+
+@njit(**JIT)
+def cell_fractions_2d(x, y, phi_a, phi_b, weighted):
+    """Liquid fraction (nx, ny) of every rectangle of the lattice x (nx+1,), y (ny+1,) where
+    phi_a and phi_b (nx+1, ny+1) are both negative; ``weighted``: axisymmetric (r dr dz)."""
+    nx = x.shape[0] - 1
+    ny = y.shape[0] - 1
+    out = np.empty((nx, ny))
+    px = np.empty(3)
+    py = np.empty(3)
+    fa = np.empty(3)
+    fb = np.empty(3)
+    corners = ((0, 0, 1, 0, 1, 1), (0, 0, 1, 1, 0, 1))
+    for i in range(nx):
+        for j in range(ny):
+            inside = 0
+            out_a = 0
+            out_b = 0
+            for di in range(2):
+                for dj in range(2):
+                    a = phi_a[i + di, j + dj]
+                    b = phi_b[i + di, j + dj]
+                    if a < 0.0 and b < 0.0:
+                        inside += 1
+                    out_a += a >= 0.0
+                    out_b += b >= 0.0
+            if inside == 4:
+                out[i, j] = 1.0
+                continue
+            if out_a == 4 or out_b == 4:
+                out[i, j] = 0.0
+                continue
+            area = 0.0
+            moment = 0.0
+            for tri in corners:
+                for v in range(3):
+                    di = tri[2 * v]
+                    dj = tri[2 * v + 1]
+                    px[v] = x[i + di]
+                    py[v] = y[j + dj]
+                    fa[v] = phi_a[i + di, j + dj]
+                    fb[v] = phi_b[i + di, j + dj]
+                ar, mo = _triangle_wet(px, py, fa, fb)
+                area += ar
+                moment += mo
+            dy = y[j + 1] - y[j]
+            if weighted:
+                out[i, j] = moment / (0.5 * (x[i + 1] ** 2 - x[i] ** 2) * dy)
+            else:
+                out[i, j] = area / ((x[i + 1] - x[i]) * dy)
+    return out
+
+
+@njit(**JIT)
+def face_fractions_2d(x, y, phi_a, phi_b, weighted):
+    """Wetted fractions of the lattice's faces (edges): (along_x (nx, ny+1): faces normal to
+    y spanning x[i]..x[i+1]; along_y (nx+1, ny): faces normal to x). ``weighted``:
+    axisymmetric, faces normal to z are annuli (measure r dr)."""
+    nx = x.shape[0] - 1
+    ny = y.shape[0] - 1
+    along_x = np.empty((nx, ny + 1))
+    along_y = np.empty((nx + 1, ny))
+    for i in range(nx):
+        for j in range(ny + 1):
+            along_x[i, j] = _segment_wet(x[i], x[i + 1], phi_a[i, j], phi_a[i + 1, j],
+                                         phi_b[i, j], phi_b[i + 1, j], weighted)
+    for i in range(nx + 1):
+        for j in range(ny):
+            along_y[i, j] = _segment_wet(y[j], y[j + 1], phi_a[i, j], phi_a[i, j + 1],
+                                         phi_b[i, j], phi_b[i, j + 1], False)
+    return along_x, along_y
+
+
+# Kuhn triangulation of the unit cube: corners as bit triples (dx, dy, dz)
+_KUHN = np.array([
+    [0, 1, 3, 7], [0, 1, 5, 7], [0, 2, 3, 7], [0, 2, 6, 7], [0, 4, 5, 7], [0, 4, 6, 7]],
+    dtype=np.int64)
+
+
+@njit(**JIT)
+def cell_fractions_3d(x, y, z, phi_a, phi_b):
+    """Liquid fraction (nx, ny, nz) of every hexahedron of the lattice where phi_a and phi_b
+    (nx+1, ny+1, nz+1) are both negative."""
+    nx = x.shape[0] - 1
+    ny = y.shape[0] - 1
+    nz = z.shape[0] - 1
+    out = np.empty((nx, ny, nz))
+    cp = np.empty((8, 3))
+    ca = np.empty(8)
+    cb = np.empty(8)
+    tp = np.empty((4, 3))
+    ta = np.empty(4)
+    tb = np.empty(4)
+    h3 = (x[1] - x[0]) * (y[1] - y[0]) * (z[1] - z[0])
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                inside = 0
+                out_a = 0
+                out_b = 0
+                for c in range(8):
+                    di, dj, dk = c & 1, (c >> 1) & 1, (c >> 2) & 1
+                    ca[c] = phi_a[i + di, j + dj, k + dk]
+                    cb[c] = phi_b[i + di, j + dj, k + dk]
+                    cp[c, 0] = x[i + di]
+                    cp[c, 1] = y[j + dj]
+                    cp[c, 2] = z[k + dk]
+                    if ca[c] < 0.0 and cb[c] < 0.0:
+                        inside += 1
+                    out_a += ca[c] >= 0.0
+                    out_b += cb[c] >= 0.0
+                if inside == 8:
+                    out[i, j, k] = 1.0
+                    continue
+                if out_a == 8 or out_b == 8:
+                    out[i, j, k] = 0.0
+                    continue
+                vol = 0.0
+                for t in range(6):
+                    for r in range(4):
+                        tp[r] = cp[_KUHN[t, r]]
+                        ta[r] = ca[_KUHN[t, r]]
+                        tb[r] = cb[_KUHN[t, r]]
+                    vol += _tet_wet_volume2(tp, ta, tb)
+                out[i, j, k] = vol / h3
+    return out
+
+
+@njit(**JIT)
+def _square_wet(u0, u1, v0, v1, a00, a10, a01, a11, b00, b10, b01, b11):
+    """Wetted fraction of the rectangle [u0,u1]x[v0,v1] with corner values of phi_a and
+    phi_b (two triangles)."""
+    if max(a00, a10, a01, a11) < 0.0 and max(b00, b10, b01, b11) < 0.0:
+        return 1.0
+    if min(a00, a10, a01, a11) >= 0.0 or min(b00, b10, b01, b11) >= 0.0:
+        return 0.0
+    px = np.empty(3)
+    py = np.empty(3)
+    fa = np.empty(3)
+    fb = np.empty(3)
+    px[0], py[0], fa[0], fb[0] = u0, v0, a00, b00
+    px[1], py[1], fa[1], fb[1] = u1, v0, a10, b10
+    px[2], py[2], fa[2], fb[2] = u1, v1, a11, b11
+    s1, _ = _triangle_wet(px, py, fa, fb)
+    px[1], py[1], fa[1], fb[1] = u0, v1, a01, b01
+    s2, _ = _triangle_wet(px, py, fa, fb)
+    return (s1 + s2) / ((u1 - u0) * (v1 - v0))
+
+
+@njit(**JIT)
+def face_fractions_3d(x, y, z, phi_a, phi_b):
+    """Wetted fractions of the faces normal to x (nx+1, ny, nz), y (nx, ny+1, nz) and
+    z (nx, ny, nz+1)."""
+    nx = x.shape[0] - 1
+    ny = y.shape[0] - 1
+    nz = z.shape[0] - 1
+    fx = np.empty((nx + 1, ny, nz))
+    fy = np.empty((nx, ny + 1, nz))
+    fz = np.empty((nx, ny, nz + 1))
+    A = phi_a
+    B = phi_b
+    for i in range(nx + 1):
+        for j in range(ny):
+            for k in range(nz):
+                fx[i, j, k] = _square_wet(
+                    y[j], y[j + 1], z[k], z[k + 1],
+                    A[i, j, k], A[i, j + 1, k], A[i, j, k + 1], A[i, j + 1, k + 1],
+                    B[i, j, k], B[i, j + 1, k], B[i, j, k + 1], B[i, j + 1, k + 1])
+    for i in range(nx):
+        for j in range(ny + 1):
+            for k in range(nz):
+                fy[i, j, k] = _square_wet(
+                    x[i], x[i + 1], z[k], z[k + 1],
+                    A[i, j, k], A[i + 1, j, k], A[i, j, k + 1], A[i + 1, j, k + 1],
+                    B[i, j, k], B[i + 1, j, k], B[i, j, k + 1], B[i + 1, j, k + 1])
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz + 1):
+                fz[i, j, k] = _square_wet(
+                    x[i], x[i + 1], y[j], y[j + 1],
+                    A[i, j, k], A[i + 1, j, k], A[i, j + 1, k], A[i + 1, j + 1, k],
+                    B[i, j, k], B[i + 1, j, k], B[i, j + 1, k], B[i + 1, j + 1, k])
+    return fx, fy, fz

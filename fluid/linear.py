@@ -1,0 +1,52 @@
+"""FiPy linear solvers by name (registry), so that scenes, tests and benchmarks can choose.
+
+Only FiPy's SciPy suite installs on this machine from the package registry (PETSc, Trilinos and
+pyamgx do not); within it the Krylov solvers take SciPy's Jacobi/ILU or PyAMG's
+smoothed-aggregation preconditioner.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+from fipy.solvers import scipy as suite
+from fipy.solvers.scipy.preconditioners import ILUPreconditioner, JacobiPreconditioner
+
+SUITE = "scipy"
+
+
+def _amg():
+    from fipy.solvers.pyAMG.preconditioners import SmoothedAggregationPreconditioner
+    return SmoothedAggregationPreconditioner()
+
+
+def _krylov(cls, precon: Callable | None):
+    def make(tolerance: float, iterations: int):
+        return cls(tolerance=tolerance, criterion="RHS", iterations=iterations,
+                   precon=precon() if precon else None)
+    return make
+
+
+#: name -> factory(tolerance, iterations) of a FiPy solver
+LINEAR_SOLVERS: dict[str, Callable] = {
+    "lu": lambda tolerance, iterations: suite.LinearLUSolver(tolerance=tolerance),
+    "pcg": _krylov(suite.LinearPCGSolver, None),
+    "pcg-jacobi": _krylov(suite.LinearPCGSolver, JacobiPreconditioner),
+    "pcg-amg": _krylov(suite.LinearPCGSolver, _amg),
+    "bicgstab-jacobi": _krylov(suite.LinearBicgstabSolver, JacobiPreconditioner),
+    "bicgstab-ilu": _krylov(suite.LinearBicgstabSolver, ILUPreconditioner),
+    "gmres-ilu": _krylov(suite.LinearGMRESSolver, ILUPreconditioner),
+    "gmres-amg": _krylov(suite.LinearGMRESSolver, _amg),
+}
+
+#: solvers valid for the symmetric pressure equation (PCG needs a symmetric operator)
+SYMMETRIC_ONLY = {"pcg", "pcg-jacobi", "pcg-amg"}
+
+
+def make_solver(name: str, tolerance: float = 1e-10, iterations: int = 2000, *, symmetric: bool):
+    """FiPy solver ``name`` from :data:`LINEAR_SOLVERS`; ``symmetric``: the system is."""
+    if name not in LINEAR_SOLVERS:
+        raise ValueError(f"unknown linear solver {name!r}; allowed: {sorted(LINEAR_SOLVERS)}")
+    if name in SYMMETRIC_ONLY and not symmetric:
+        raise ValueError(f"linear solver {name!r} needs a symmetric system; for momentum use "
+                         f"one of {sorted(set(LINEAR_SOLVERS) - SYMMETRIC_ONLY)}")
+    return LINEAR_SOLVERS[name](tolerance, iterations)

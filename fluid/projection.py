@@ -1,0 +1,361 @@
+"""Incremental pressure-correction (projection) step on the immersed-boundary grid, with FiPy.
+
+One step t -> t + dt, given the liquid geometry at t + dt (Van Kan 1986 incremental scheme
+with Rhie-Chow face velocities on FiPy's collocated grid):
+
+1. momentum predictor, implicit (FiPy ``TransientTerm`` + upwind ``ConvectionTerm`` with the
+   face fluxes of step n + ``DiffusionTerm``), old reduced-pressure gradient explicit:
+       rho (u* - u^n)/dt + div(rho F u*) - rho (div F) u* = div(mu grad u*) - grad p^n
+   [- mu u_r / r^2 on the axisymmetric grid]. Cells whose centre is outside the liquid are
+   pinned to the wall velocity; a face between a liquid-centre cell P and a wall-centre cell
+   carries mu / theta, theta = phi_P / (phi_P - phi_N) the wall's fractional distance from P
+   (Shortley-Weller immersed Dirichlet condition, second order for the no-slip wall);
+2. face velocities u*_f = avg(u* + dt/rho grad_c p^n) - dt/rho grad_f p^n (Rhie-Chow);
+3. pressure correction on the cut cells (FiPy ``DiffusionTerm`` with face coefficient
+   beta dt/rho, beta = wetted face fraction):
+       sum_f beta A (u*_f - dt/rho grad_f dp) + (alpha^{n+1} - alpha^n) V / dt = 0
+   i.e. every cell's liquid volume changes by exactly the flux through its wetted faces:
+   moving-boundary face fluxes, no interface velocity needed for continuity;
+4. u_f = u*_f - dt/rho grad_f dp, u_c = u* - dt/rho grad_c dp, p^{n+1} = p^n + dp, where
+   grad_c is the beta-weighted average of the face gradients on each axis (exact for the
+   linear pressure of a uniformly accelerated liquid).
+"""
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass
+
+import fipy as fp
+import numpy as np
+
+from .geometry import Geometry
+from .linear import make_solver
+from .model import FluidModel, FluidState
+
+#: smallest wall distance fraction used by the immersed viscous condition
+THETA_MIN = 0.05
+#: pin strength for cells outside the liquid (times rho / dt)
+PIN_FACTOR = 1e10
+
+
+@dataclass(frozen=True)
+class StepReport:
+    """volume_mismatch: interface volume rate minus net port inflow (m^3/s) that the
+    pressure equation could not honour (flow ports only; removed uniformly, should be ~0);
+    divergence: largest |cell continuity residual| / cell volume (1/s) after the step;
+    seconds: wall time of (geometry is the caller's), momentum, pressure."""
+
+    volume_mismatch: float
+    divergence: float
+    seconds_momentum: float
+    seconds_pressure: float
+
+
+class ProjectionOperators:
+    """FiPy variables and equations for one model, built once and refilled every step."""
+
+    def __init__(self, model: FluidModel):
+        self.model = model
+        grid = model.grid
+        mesh = grid.mesh
+        dim = grid.dim
+        self.velocity = [fp.CellVariable(mesh=mesh, value=0.0, hasOld=True) for _ in range(dim)]
+        self.viscous_coeff = fp.FaceVariable(mesh=mesh, value=model.viscosity)
+        self.flux_velocity = fp.FaceVariable(mesh=mesh, rank=1, value=0.0)
+        self.flux_divergence = fp.CellVariable(mesh=mesh, value=0.0)
+        self.pin = fp.CellVariable(mesh=mesh, value=0.0)
+        self.pin_target = [fp.CellVariable(mesh=mesh, value=0.0) for _ in range(dim)]
+        self.pressure_gradient = [fp.CellVariable(mesh=mesh, value=0.0) for _ in range(dim)]
+        rho = model.density
+        self.momentum = []
+        for a in range(dim):
+            u = self.velocity[a]
+            lhs = fp.TransientTerm(coeff=rho, var=u)
+            if model.convection:
+                lhs = lhs + fp.UpwindConvectionTerm(coeff=self.flux_velocity, var=u) \
+                    - fp.ImplicitSourceTerm(coeff=self.flux_divergence, var=u)
+            rhs = fp.DiffusionTerm(coeff=self.viscous_coeff, var=u) \
+                - fp.ImplicitSourceTerm(coeff=self.pin, var=u) \
+                + self.pin * self.pin_target[a] - self.pressure_gradient[a]
+            if grid.axisymmetric and a == 0 and model.viscosity > 0:
+                r = np.maximum(grid.cell_centre[:, 0], 0.5 * grid.spacing)
+                rhs = rhs - fp.ImplicitSourceTerm(
+                    coeff=fp.CellVariable(mesh=mesh, value=model.viscosity / r**2), var=u)
+            self.momentum.append(lhs == rhs)
+        # port faces and conditions
+        self.flow_faces = np.zeros(grid.n_faces, dtype=bool)
+        self.pressure_faces = np.zeros(grid.n_faces, dtype=bool)
+        self.port_faces = []
+        for port in model.ports:
+            faces = grid.boundary_faces(port.side)
+            self.port_faces.append(faces)
+            (self.flow_faces if port.kind == "flow" else self.pressure_faces)[faces] = True
+        self.inflow = [fp.FaceVariable(mesh=mesh, value=0.0) for _ in range(dim)]
+        if self.flow_faces.any():
+            mask = fp.FaceVariable(mesh=mesh, value=self.flow_faces)
+            for a in range(dim):
+                self.velocity[a].constrain(self.inflow[a], where=mask)
+        self.correction = fp.CellVariable(mesh=mesh, value=0.0)
+        self.correction_bc = fp.FaceVariable(mesh=mesh, value=0.0)
+        if self.pressure_faces.any():
+            self.correction.constrain(self.correction_bc,
+                                      where=fp.FaceVariable(mesh=mesh, value=self.pressure_faces))
+        self.pressure_coeff = fp.FaceVariable(mesh=mesh, value=0.0)
+        self.pressure_pin = fp.CellVariable(mesh=mesh, value=0.0)
+        self.pressure_source = fp.CellVariable(mesh=mesh, value=0.0)
+        self.pressure_eq = fp.DiffusionTerm(coeff=self.pressure_coeff, var=self.correction) \
+            - fp.ImplicitSourceTerm(coeff=self.pressure_pin, var=self.correction) \
+            == self.pressure_source
+        self.momentum_solver = make_solver(model.momentum_solver, 1e-12, 1000, symmetric=False)
+        self.pressure_solver = make_solver(model.pressure_solver, model.pressure_tolerance,
+                                           2000, symmetric=True)
+
+
+# ---------------------------------------------------------------- discrete operators (numpy)
+
+def face_gradient(model: FluidModel, cell_values: np.ndarray, boundary: np.ndarray) -> np.ndarray:
+    """Normal derivative (n_faces,) along FiPy's face normals; ``boundary`` (n_faces,) holds
+    Dirichlet values on exterior faces (NaN: no condition, gradient 0)."""
+    g = model.grid
+    p_cell, n_cell = g.face_cells
+    out = np.zeros(g.n_faces)
+    inner = n_cell >= 0
+    out[inner] = (cell_values[n_cell[inner]] - cell_values[p_cell[inner]]) / g.face_distance[inner]
+    bc = ~inner & np.isfinite(boundary)
+    out[bc] = (boundary[bc] - cell_values[p_cell[bc]]) / g.face_distance[bc]
+    return out
+
+
+def cell_gradient(model: FluidModel, face_grad: np.ndarray, beta: np.ndarray) -> np.ndarray:
+    """(n_cells, dim) cell gradient: per axis, the beta-weighted mean of the face normal
+    gradients of the cell's two faces on that axis."""
+    g = model.grid
+    along = face_grad * g.face_sign * beta
+    num = np.zeros((g.n_cells, g.dim))
+    den = np.zeros((g.n_cells, g.dim))
+    p_cell, n_cell = g.face_cells
+    np.add.at(num, (p_cell, g.face_axis), along)
+    np.add.at(den, (p_cell, g.face_axis), beta)
+    inner = n_cell >= 0
+    np.add.at(num, (n_cell[inner], g.face_axis[inner]), along[inner])
+    np.add.at(den, (n_cell[inner], g.face_axis[inner]), beta[inner])
+    return np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+
+
+def net_outflow(model: FluidModel, face_flux: np.ndarray) -> np.ndarray:
+    """(n_cells,) sum of a face flux (FiPy m^3/s per radian on the axisymmetric grid, along
+    FiPy's normals) out of each cell."""
+    g = model.grid
+    p_cell, n_cell = g.face_cells
+    out = np.zeros(g.n_cells)
+    np.add.at(out, p_cell, face_flux)
+    inner = n_cell >= 0
+    np.add.at(out, n_cell[inner], -face_flux[inner])
+    return out
+
+
+def interpolate_to_faces(model: FluidModel, cell_vec: np.ndarray) -> np.ndarray:
+    """(n_faces,) normal component (along FiPy's normal) of the face average of cell vectors
+    (n_cells, dim); exterior faces take the adjacent cell's value."""
+    g = model.grid
+    p_cell, n_cell = g.face_cells
+    comp = cell_vec[p_cell, g.face_axis]
+    inner = n_cell >= 0
+    comp[inner] = 0.5 * (comp[inner] + cell_vec[n_cell[inner], g.face_axis[inner]])
+    return comp * g.face_sign
+
+
+def viscous_face_coefficient(model: FluidModel, geometry: Geometry) -> np.ndarray:
+    """mu / theta on faces between a liquid-centre and a wall-centre cell, mu elsewhere."""
+    g = model.grid
+    mu = np.full(g.n_faces, model.viscosity)
+    p_cell, n_cell = g.face_cells
+    inner = np.nonzero(n_cell >= 0)[0]
+    phi_p = geometry.centre_level[p_cell[inner]]
+    phi_n = geometry.centre_level[n_cell[inner]]
+    cut = (phi_p < 0) != (phi_n < 0)
+    fluid_phi = np.where(phi_p < 0, phi_p, phi_n)[cut]
+    wall_phi = np.where(phi_p < 0, phi_n, phi_p)[cut]
+    theta = fluid_phi / (fluid_phi - np.minimum(wall_phi, 1e6))
+    mu[inner[cut]] = model.viscosity / np.maximum(theta, THETA_MIN)
+    return mu
+
+
+def port_values(model: FluidModel, ops: ProjectionOperators, time: float):
+    """Reduced pressure on pressure-port faces (n_faces, NaN elsewhere) and the inward plug
+    velocity per flow port at ``time``."""
+    g = model.grid
+    reduced = np.full(g.n_faces, np.nan)
+    points = model.grid_points(g.face_centre)
+    for port, faces in zip(model.ports, ops.port_faces):
+        if port.kind == "pressure":
+            reduced[faces] = port.at(time) - model.body_potential(points[faces], time)
+    return reduced
+
+
+def _flow_port_velocity(model: FluidModel, ops: ProjectionOperators, beta: np.ndarray,
+                        time: float) -> np.ndarray:
+    """(n_faces,) prescribed face velocity along FiPy's (outward) normal on flow ports."""
+    g = model.grid
+    u = np.zeros(g.n_faces)
+    for port, faces in zip(model.ports, ops.port_faces):
+        if port.kind != "flow":
+            continue
+        open_area = (beta[faces] * g.face_area[faces]).sum() * g.volume_factor()
+        if open_area <= 0:
+            raise ValueError(f"the {port.side} port has no wetted face on this grid")
+        u[faces] = -port.at(time) / open_area  # inflow = against the outward normal
+    return u
+
+
+# ---------------------------------------------------------------- the step
+
+def initial_state(model: FluidModel, ops: ProjectionOperators, geometry: Geometry,
+                  time: float = 0.0) -> FluidState:
+    """Liquid at rest (tank frame) in hydrostatic equilibrium: p_red uniform, equal to the
+    first pressure port's value (0 with flow ports only)."""
+    g = model.grid
+    bc = port_values(model, ops, time)
+    level = 0.0
+    for port, faces in zip(model.ports, ops.port_faces):
+        if port.kind == "pressure":
+            level = float(np.mean(bc[faces]))
+            break
+    return FluidState(time=time, cell_velocity=np.zeros((g.n_cells, g.dim)),
+                      face_velocity=np.zeros(g.n_faces), pressure=np.full(g.n_cells, level),
+                      geometry=geometry, port_pressure=bc)
+
+
+def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometry: Geometry,
+         dt: float) -> tuple[FluidState, StepReport]:
+    """Advance ``state`` by ``dt`` (s) to the liquid region ``geometry`` (at t + dt)."""
+    if not dt > 0:
+        raise ValueError(f"time step must be > 0 s, got {dt}")
+    g = model.grid
+    dim = g.dim
+    rho = model.density
+    t1 = state.time + dt
+    beta = geometry.face_fraction
+    fluid = geometry.fluid_centre
+    wall = geometry.wall_velocity[:, [0, 2]] if g.axisymmetric else geometry.wall_velocity
+
+    # old pressure: Dirichlet values of the previous step on pressure ports
+    p_bc_old = port_values(model, ops, state.time)
+    grad_f_old = face_gradient(model, state.pressure, p_bc_old)
+    grad_c_old = cell_gradient(model, grad_f_old, beta)
+    u_flow = _flow_port_velocity(model, ops, beta, t1)
+
+    # 1. momentum predictor
+    tic = _time.perf_counter()
+    flux_old = state.face_velocity * beta
+    ops.viscous_coeff.value = viscous_face_coefficient(model, geometry)
+    ops.flux_velocity.value = rho * flux_old[None, :] * np.asarray(g.mesh.faceNormals)
+    ops.flux_divergence.value = rho * net_outflow(model, flux_old * g.face_area) / g.cell_volume
+    ops.pin.value = np.where(fluid, 0.0, PIN_FACTOR * rho / dt)
+    normals = np.asarray(g.mesh.faceNormals)
+    for a in range(dim):
+        ops.pin_target[a].value = wall[:, a]
+        ops.pressure_gradient[a].value = grad_c_old[:, a]
+        ops.inflow[a].value = u_flow * normals[a]
+        ops.velocity[a].value = state.cell_velocity[:, a]
+        ops.velocity[a].updateOld()
+        with np.errstate(invalid="ignore", divide="ignore"):  # FiPy's Peclet number 0/0
+            ops.momentum[a].solve(var=ops.velocity[a], dt=dt, solver=ops.momentum_solver)
+    u_star = np.stack([np.asarray(ops.velocity[a].value) for a in range(dim)], axis=1)
+    u_star[~fluid] = wall[~fluid]
+    toc_momentum = _time.perf_counter() - tic
+
+    # 2. Rhie-Chow face velocities
+    tic = _time.perf_counter()
+    u_tilde = u_star + np.where(fluid[:, None], dt / rho * grad_c_old, 0.0)
+    u_face = interpolate_to_faces(model, u_tilde) - dt / rho * grad_f_old
+    exterior = g.face_cells[1] < 0
+    u_face[exterior & ~ops.pressure_faces] = 0.0
+    u_face[ops.flow_faces] = u_flow[ops.flow_faces]
+
+    # 3. pressure correction
+    area_open = beta * g.face_area
+    dvol = (geometry.cell_fraction - state.geometry.cell_fraction) * g.cell_volume
+    coupled = (geometry.cell_fraction > 0) | (_open_area(model, area_open) > 0)
+    dvol = _merge_dead_cells(model, dvol, coupled, geometry.cell_fraction)
+    source = net_outflow(model, area_open * u_face) + dvol / dt  # FiPy m^3/s per cell
+    mismatch = 0.0
+    pin_scale = dt / rho * 2 * dim / g.spacing**2
+    pressure_pin = np.where(coupled, 0.0, pin_scale)
+    p_bc_new = port_values(model, ops, t1)
+    if not ops.pressure_faces.any():
+        total = source[coupled].sum()
+        weight = geometry.cell_fraction * g.cell_volume
+        mismatch = total * g.volume_factor()
+        source -= total * weight / weight.sum()
+        gauge = _gauge_cell(model, ops, geometry)
+        pressure_pin[gauge] = pin_scale
+    else:
+        ops.correction_bc.value = np.nan_to_num(p_bc_new - p_bc_old)
+    ops.pressure_coeff.value = beta * dt / rho
+    ops.pressure_pin.value = pressure_pin
+    ops.pressure_source.value = source / g.cell_volume
+    ops.correction.value = 0.0
+    ops.pressure_eq.solve(var=ops.correction, solver=ops.pressure_solver)
+    dp = np.asarray(ops.correction.value).copy()
+    toc_pressure = _time.perf_counter() - tic
+
+    # 4. correction
+    dp_bc = np.where(ops.pressure_faces, p_bc_new - p_bc_old, np.nan)
+    grad_f = face_gradient(model, dp, dp_bc)
+    u_face_new = u_face - dt / rho * grad_f
+    u_face_new[ops.flow_faces] = u_flow[ops.flow_faces]
+    u_face_new[beta == 0] = 0.0
+    u_cell = u_star - dt / rho * cell_gradient(model, grad_f, beta)
+    u_cell[~fluid] = wall[~fluid]
+    residual = net_outflow(model, beta * g.face_area * u_face_new) + dvol / dt
+    divergence = float(np.max(np.abs(residual[coupled]) / g.cell_volume[coupled])) \
+        if coupled.any() else 0.0
+    new = FluidState(time=t1, cell_velocity=u_cell, face_velocity=u_face_new,
+                     pressure=state.pressure + dp, geometry=geometry, port_pressure=p_bc_new)
+    return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure)
+
+
+def _merge_dead_cells(model: FluidModel, dvol: np.ndarray, coupled: np.ndarray,
+                      alpha: np.ndarray) -> np.ndarray:
+    """Move the volume change of cells that left the liquid this step (no wetted face left)
+    to their wettest coupled neighbour, so that no liquid volume is lost from the balance."""
+    dead = np.nonzero(~coupled & (dvol != 0))[0]
+    if len(dead) == 0:
+        return dvol
+    g = model.grid
+    dvol = dvol.copy()
+    p_cell, n_cell = g.face_cells
+    inner = n_cell >= 0
+    pairs = np.concatenate([np.stack([p_cell[inner], n_cell[inner]]),
+                            np.stack([n_cell[inner], p_cell[inner]])], axis=1)
+    order = np.argsort(pairs[0], kind="stable")
+    src, dst = pairs[0][order], pairs[1][order]
+    start = np.searchsorted(src, dead)
+    stop = np.searchsorted(src, dead, side="right")
+    for cell, a, b in zip(dead, start, stop):
+        nbrs = dst[a:b]
+        nbrs = nbrs[coupled[nbrs]]
+        if len(nbrs):
+            dvol[nbrs[np.argmax(alpha[nbrs])]] += dvol[cell]
+        dvol[cell] = 0.0
+    return dvol
+
+
+def _open_area(model: FluidModel, area_open: np.ndarray) -> np.ndarray:
+    """(n_cells,) total wetted face area of each cell."""
+    g = model.grid
+    p_cell, n_cell = g.face_cells
+    inner = n_cell >= 0
+    return np.bincount(p_cell, weights=area_open, minlength=g.n_cells) + \
+        np.bincount(n_cell[inner], weights=area_open[inner], minlength=g.n_cells)
+
+
+def _gauge_cell(model: FluidModel, ops: ProjectionOperators, geometry: Geometry) -> int:
+    """Cell whose reduced pressure stays 0 with flow ports only: next to the first port."""
+    g = model.grid
+    for faces in ops.port_faces:
+        cells = g.face_cells[0][faces & (geometry.face_fraction > 0)]
+        if len(cells):
+            return int(cells[np.argmax(geometry.cell_fraction[cells])])
+    return int(np.argmax(geometry.cell_fraction))
