@@ -8,10 +8,23 @@ from __future__ import annotations
 
 from typing import Callable
 
+import numpy as np
+import scipy.sparse as sp
 from fipy.solvers import scipy as suite
-from fipy.solvers.scipy.preconditioners import ILUPreconditioner, JacobiPreconditioner
+from fipy.solvers.scipy.preconditioners import ILUPreconditioner
+from fipy.solvers.scipy.preconditioners.scipyPreconditioner import ScipyPreconditioner
 
 SUITE = "scipy"
+
+
+class JacobiPreconditioner(ScipyPreconditioner):
+    """Diagonal scaling as a sparse diagonal matrix (FiPy's own Jacobi preconditioner applies
+    the diagonal through a sparse direct solve at every Krylov iteration)."""
+
+    def _applyToMatrix(self, matrix):
+        diagonal = matrix.diagonal()
+        return sp.diags(np.where(diagonal != 0, 1.0 / np.where(diagonal != 0, diagonal, 1), 1.0)
+                        ).tocsr(), None
 
 
 def _amg():
