@@ -1,0 +1,225 @@
+"""Checks of the immersed-boundary fluid against closed-form oracles.
+
+Oracles: hydrostatics p = rho g (h - z); the added-mass pressure of a uniformly accelerated
+liquid column, p = rho (g + a) h; exact volume bookkeeping of a spherical cap,
+V = pi d^2 (3R - d)/3; Hagen-Poiseuille u = G (R^2 - r^2)/(4 mu) (e.g. White, Viscous Fluid
+Flow, 3rd ed., Sec. 3-3).
+"""
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from fluid import cutcell
+from fluid.container import SphericalTank, UprightCylinder
+from fluid.grid import axisymmetric_grid
+from fluid.interface import Interface, lattice_distance
+from fluid.model import FluidModel, Port
+from fluid.solver import FluidSolver
+from fluid.validation import (PistonCase, PoiseuilleCase, bowl_meridian, bowl_surface,
+                              flat_interface, sphere_cross_section, sphere_model,
+                              spherical_cap_volume, tank_grid)
+from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY
+
+R = TANK_RADIUS
+RHO = WATER_DENSITY
+G = STANDARD_GRAVITY
+
+
+# ------------------------------------------------------------------ cut-cell geometry
+
+def _sphere_volume_error(n):
+    x = np.linspace(-0.25, 0.25, n + 1)
+    X, Y, Z = np.meshgrid(x, x, x, indexing="ij")
+    alpha = cutcell.cell_fractions_3d(x, x, x, np.sqrt(X**2 + Y**2 + Z**2) - 0.2,
+                                      np.full(X.shape, -1.0))
+    return abs(alpha.sum() * (x[1] - x[0]) ** 3 / (4 / 3 * np.pi * 0.2**3) - 1)
+
+
+def test_cut_cell_volume_is_second_order_and_exact_for_planes():
+    e16, e32 = _sphere_volume_error(16), _sphere_volume_error(32)
+    assert np.log2(e16 / e32) > 1.9
+    # a plane cutting an axisymmetric cylinder off the grid lines: exact, r-weighted
+    r = np.linspace(0, 0.25, 33)
+    z = np.linspace(-0.25, 0.25, 65)
+    Rr, Zz = np.meshgrid(r, z, indexing="ij")
+    vol = 0.5 * (r[1:] ** 2 - r[:-1] ** 2)[:, None] * np.diff(z)[None, :] * 2 * np.pi
+    for zc in (0.0123, 0.0151):
+        alpha = cutcell.cell_fractions_2d(r, z, Rr - 0.1234, Zz - zc, True)
+        assert (alpha * vol).sum() == pytest.approx(np.pi * 0.1234**2 * (zc + 0.25), rel=1e-12)
+
+
+def test_interface_distance_signs_meridian_and_surface():
+    itf = flat_interface(0.0123, 0.3, 0.0, True, liquid_above=True)
+    d, _ = lattice_distance(itf, [0.0, -0.1], [0.01, 0.01], (5, 21), band=0.025)
+    z = -0.1 + 0.01 * np.arange(21)
+    assert np.all(np.sign(d[2]) == np.where(z < 0.0123, 1, -1))  # liquid above: phi < 0
+    near = np.abs(z - 0.0123) < 0.02
+    assert np.allclose(np.abs(d[2][near]), np.abs(z[near] - 0.0123))
+    surf = bowl_surface(R, 0.05, 12)
+    d3, _ = lattice_distance(surf, [-0.2, -0.2, -0.2], [0.04] * 3, (11, 11, 11), band=0.1)
+    assert d3[5, 5, 0] < 0 and d3[5, 5, 10] > 0  # liquid below the bowl
+
+
+# ------------------------------------------------------------------ hydrostatics
+
+@pytest.mark.parametrize("axisymmetric, cells", [(True, 32), (False, 16)])
+def test_hydrostatic_interface_pressure_and_no_spurious_flow(axisymmetric, cells):
+    """At rest in the immersed sphere with a membrane: p = rho g (h - z) within 0.5 % at the
+    membrane points and |u| <= 1e-6 m/s after 100 steps."""
+    grid = tank_grid(R, cells, axisymmetric)
+    level = 0.05  # m, equivalent height above the tank centre
+    z_port = grid.lower[-1]
+    model = sphere_model(R, grid, [Port("bottom", "pressure", RHO * G * (level - z_port))],
+                         momentum_solver="bicgstab-jacobi", pressure_solver="pcg-jacobi")
+    itf = bowl_meridian(R, 0.3 * R) if axisymmetric else bowl_surface(R, 0.3 * R, 16)
+    solver = FluidSolver(model, itf)
+    for _ in range(100):
+        solver.advance(1e-3, itf)
+    inside = np.hypot(itf.points[:, 0], itf.points[:, 1]) < R
+    p = solver.pressure_at(itf.points[inside])
+    expected = RHO * G * (level - itf.points[inside, 2])
+    assert np.max(np.abs(p - expected) / np.abs(expected)) < 5e-3
+    assert solver.velocity_magnitude_max() <= 1e-6
+
+
+def test_accelerating_tank_with_closed_port_stays_at_rest():
+    """Enclosed liquid, flow port shut, tank accelerating up and down: a uniform body
+    acceleration only changes the pressure, p(x1) - p(x2) = rho b(t) . (x1 - x2)."""
+    grid = tank_grid(R, 24, True)
+
+    def body(t):
+        return (0.0, 0.0, -G - 3.0 * np.sin(40.0 * t))
+
+    model = sphere_model(R, grid, [Port("bottom", "flow", 0.0)], body_acceleration=body)
+    itf = bowl_meridian(R, 0.2 * R)
+    solver = FluidSolver(model, itf)
+    pts = np.array([[0.0, 0.0, -0.1], [0.1, 0.0, -0.15]])
+    for k in range(1, 31):
+        solver.advance(2e-3, itf)
+        dp = np.diff(solver.pressure_at(pts))[0]
+        expected = RHO * body(k * 2e-3)[2] * (pts[1, 2] - pts[0, 2])
+        assert dp == pytest.approx(expected, rel=1e-9)
+    assert solver.velocity_magnitude_max() <= 1e-6
+
+
+# ------------------------------------------------------------------ added mass
+
+def test_piston_added_mass_pressure():
+    """Rigid piston accelerating at a under a full column of depth h: p = rho (g + a) h within
+    2 % (viscous wall shear and the discrete column end are the difference)."""
+    case = PistonCase()
+    model = case.model()
+    solver = FluidSolver(model, case.piston(0.0))
+    dt = 1e-3
+    for k in range(1, 51):
+        solver.advance(dt, case.piston(k * dt))
+    z = solver.interface.points[0, 2]
+    pts = np.stack([np.linspace(0, 0.9 * case.radius, 8), np.zeros(8), np.full(8, z)], axis=1)
+    p = solver.pressure_at(pts)
+    assert np.max(np.abs(p / case.oracle(model, 50 * dt) - 1)) < 0.02
+
+
+# ------------------------------------------------------------------ volume bookkeeping
+
+def test_volume_bookkeeping_with_port_inflow():
+    """Port inflow Q, membrane (a plane) rising at Q / A(z): liquid volume = V0 + Q t within
+    0.1 % of the change over 200 steps; continuity residual at solver precision."""
+    grid = tank_grid(R, 32, True)
+    Q, dt, z0 = 1.0e-3, 5e-3, -0.05
+    model = sphere_model(R, grid, [Port("bottom", "flow", Q)],
+                         momentum_solver="bicgstab-jacobi", pressure_solver="pcg-jacobi")
+    v_start = spherical_cap_volume(R, z0)
+
+    def plane(t):
+        z = brentq(lambda zz: spherical_cap_volume(R, zz) - v_start - Q * t, -R, R)
+        return flat_interface(z, 1.1 * R, Q / sphere_cross_section(R, z), True, False)
+
+    solver = FluidSolver(model, plane(0.0))
+    v0 = solver.liquid_volume
+    worst_mismatch = worst_divergence = 0.0
+    for k in range(1, 201):
+        report = solver.advance(dt, plane(k * dt))
+        worst_mismatch = max(worst_mismatch, abs(report.volume_mismatch))
+        worst_divergence = max(worst_divergence, report.divergence)
+    change = Q * 200 * dt
+    assert abs((solver.liquid_volume - v0) / change - 1) < 1e-3
+    assert worst_mismatch < 1e-3 * Q
+    # residual per unit volume against the mean volumetric rate Q / V
+    assert worst_divergence < 1e-3 * Q / v0
+
+
+# ------------------------------------------------------------------ viscous no-slip
+
+def _poiseuille_error(cells):
+    case = PoiseuilleCase(cells_across=cells)
+    model = case.model()
+    solver = FluidSolver(model)
+    for _ in range(int(6 * case.viscous_time / 0.01)):
+        solver.advance(0.01)
+    g = model.grid
+    mid = g.centre_axes[1][g.shape[1] // 2]
+    sel = (np.abs(g.cell_centre[:, 1] - mid) < 0.25 * g.spacing) & \
+        solver.state.geometry.fluid_centre
+    exact = case.profile(model, g.cell_centre[sel, 0])
+    return np.max(np.abs(solver.state.cell_velocity[sel, 1] - exact)) / exact.max()
+
+
+def test_poiseuille_through_immersed_wall():
+    """Pipe wall 0.37 cell off the grid lines: profile within 1 % of Hagen-Poiseuille."""
+    assert _poiseuille_error(16) < 0.01
+
+
+def test_poiseuille_grid_convergence_is_second_order():
+    errors = [_poiseuille_error(n) for n in (8, 16, 32)]
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    print("Poiseuille max error", errors, "observed order", orders)
+    assert np.all(orders > 1.8)
+
+
+# ------------------------------------------------------------------ participant API
+
+def test_checkpoint_restore_reproduces_the_window_exactly():
+    grid = tank_grid(R, 16, True)
+    model = sphere_model(R, grid, [Port("bottom", "flow", 2e-4)])
+
+    def membrane(t):
+        s = 0.2 * R - 2 * 2e-4 / (np.pi * R**2) * t
+        vz = 2 * 2e-4 / (np.pi * R**2)
+        itf = bowl_meridian(R, s)
+        r = itf.points[:, 0]
+        vel = np.zeros_like(itf.points)
+        vel[:, 2] = vz * (1 - np.minimum(r, R) ** 2 / R**2)
+        return itf.with_state(itf.points, vel)
+
+    solver = FluidSolver(model, membrane(0.0))
+    solver.advance(1e-3, membrane(1e-3))
+    solver.store_checkpoint()
+    solver.advance(1e-3, membrane(2e-3))
+    first = solver.interface_pressure()
+    solver.advance(1e-3, membrane(3e-3))
+    solver.restore_checkpoint()
+    solver.advance(1e-3, membrane(2e-3))
+    assert np.array_equal(solver.interface_pressure(), first)
+    assert solver.timings.calls == 4 and solver.timings.last_call > 0
+
+
+def test_bad_input_is_named():
+    grid = axisymmetric_grid(0.1, 0.0, 0.2, 8)
+    cyl = UprightCylinder(0.08, -1, 1)
+    with pytest.raises(ValueError, match="body_acceleration along z"):
+        FluidModel(grid=grid, container=cyl, density=1000, viscosity=1e-3,
+                   body_acceleration=(1.0, 0.0, -9.81))
+    with pytest.raises(ValueError, match="port kind"):
+        Port("bottom", "suction", 1.0)
+    with pytest.raises(ValueError, match="viscosity"):
+        FluidModel(grid=grid, container=cyl, density=1000, viscosity=-1)
+    with pytest.raises(ValueError, match="unknown linear solver"):
+        FluidSolver(FluidModel(grid=grid, container=cyl, density=1000, viscosity=1e-3,
+                               pressure_solver="magic"))
+    model = FluidModel(grid=grid, container=cyl, density=1000, viscosity=1e-3)
+    with pytest.raises(ValueError, match="meridian"):
+        FluidSolver(model, bowl_surface(0.08, 0.01, 4))
+    with pytest.raises(ValueError, match="tank radius"):
+        SphericalTank(-1.0)
+    with pytest.raises(ValueError, match=r"\(n, 3\)"):
+        Interface(np.zeros((3, 2)), np.array([[0, 1]]), np.zeros((3, 2)))
