@@ -7,8 +7,10 @@ the normal is (dz, -dr), i.e. walking along the meridian the liquid lies on the 
 :func:`lattice_distance` evaluates, on a uniform lattice, the signed distance to the interface
 (positive on the normal side, i.e. outside the liquid) inside a band around it, the interface
 velocity at the closest point, and the sign everywhere else by flood fill from the band.
-Signs near edges and vertices use angle-weighted pseudo-normals (Baerentzen & Aanaes 2005), so
-they are right for any closed or open surface whose rim lies outside the region of interest.
+Signs near edges and vertices use angle-weighted pseudo-normals (Baerentzen & Aanaes 2005).
+Past the open rim of the surface (the membrane's clamped edge on the tank wall) the surface is
+continued flat: the value is the distance to the last face's plane (segment's line), so the
+level set stays linear where the rim meets the wall and the cut fractions there stay exact.
 """
 from __future__ import annotations
 
@@ -80,8 +82,9 @@ class Interface:
 
 
 def _pseudo_normals_3d(points, faces):
-    """Unit face normals (m, 3), angle-weighted vertex normals (n, 3) and per-face-edge
-    normals (m, 3, 3) (edge k joins face vertices k and k+1; sum of the adjacent faces)."""
+    """Unit face normals (m, 3), angle-weighted vertex normals (n, 3), per-face-edge
+    normals (m, 3, 3) (edge k joins face vertices k and k+1; sum of the adjacent faces), and
+    the rim: edges with one face (m, 3) and their vertices (n,)."""
     a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
     n = np.cross(b - a, c - a)
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
@@ -99,11 +102,16 @@ def _pseudo_normals_3d(points, faces):
             key = tuple(sorted((tri[k], tri[(k + 1) % 3])))
             edge_key.setdefault(key, []).append(fi)
     edge = np.empty((len(faces), 3, 3))
+    rim_edge = np.zeros((len(faces), 3), dtype=bool)
+    rim_vertex = np.zeros(len(points), dtype=bool)
     for fi, tri in enumerate(faces):
         for k in range(3):
             key = tuple(sorted((tri[k], tri[(k + 1) % 3])))
             edge[fi, k] = n[edge_key[key]].sum(0)
-    return n, vertex, edge
+            if len(edge_key[key]) == 1:
+                rim_edge[fi, k] = True
+                rim_vertex[list(key)] = True
+    return n, vertex, edge, rim_edge, rim_vertex
 
 
 def _pseudo_normals_2d(points2, segments):
@@ -118,8 +126,10 @@ def _pseudo_normals_2d(points2, segments):
 
 
 @njit(**JIT)
-def _band_segments(origin, spacing, shape, band, p2, v2, seg, seg_n, vert_n, dist, vel):
-    """Signed distance and closest-point velocity on the 2-D lattice within ``band`` (m)."""
+def _band_segments(origin, spacing, shape, band, p2, v2, seg, seg_n, vert_n, is_end, dist,
+                   vel):
+    """Signed distance and closest-point velocity on the 2-D lattice within ``band`` (m).
+    ``is_end``: vertices with one segment (open ends of the meridian)."""
     for s in range(seg.shape[0]):
         a = seg[s, 0]
         b = seg[s, 1]
@@ -139,12 +149,15 @@ def _band_segments(origin, spacing, shape, band, p2, v2, seg, seg_n, vert_n, dis
             for j in range(j0, j1 + 1):
                 qy = origin[1] + j * spacing[1]
                 t = ((qx - p2[a, 0]) * dx + (qy - p2[a, 1]) * dy) / ll if ll > 0 else 0.0
+                open_end = False
                 if t <= 0.0:
                     t = 0.0
                     nx, ny = vert_n[a, 0], vert_n[a, 1]
+                    open_end = is_end[a]
                 elif t >= 1.0:
                     t = 1.0
                     nx, ny = vert_n[b, 0], vert_n[b, 1]
+                    open_end = is_end[b]
                 else:
                     nx, ny = seg_n[s, 0], seg_n[s, 1]
                 cx = p2[a, 0] + t * dx
@@ -153,7 +166,14 @@ def _band_segments(origin, spacing, shape, band, p2, v2, seg, seg_n, vert_n, dis
                 ry = qy - cy
                 d = np.sqrt(rx * rx + ry * ry)
                 if d < abs(dist[i, j]):
-                    dist[i, j] = d if rx * nx + ry * ny >= 0.0 else -d
+                    if open_end:
+                        # past an open end: distance to the end segment's line, so that the
+                        # level set stays linear across the rim (exact cut fractions there)
+                        dist[i, j] = (qx - p2[a, 0]) * seg_n[s, 0] + (qy - p2[a, 1]) * seg_n[s, 1]
+                        if abs(dist[i, j]) < 1e-300:
+                            dist[i, j] = 1e-300
+                    else:
+                        dist[i, j] = d if rx * nx + ry * ny >= 0.0 else -d
                     for c in range(2):
                         vel[i, j, c] = (1 - t) * v2[a, c] + t * v2[b, c]
 
@@ -199,8 +219,9 @@ def _closest_on_triangle(p, a, b, c):
 
 @njit(**JIT)
 def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_n, edge_n,
-                    dist, vel):
-    """Signed distance and closest-point velocity on the 3-D lattice within ``band`` (m)."""
+                    rim_edge, rim_vertex, dist, vel):
+    """Signed distance and closest-point velocity on the 3-D lattice within ``band`` (m).
+    ``rim_edge`` (m, 3) / ``rim_vertex`` (n,): on the open boundary of the surface."""
     q = np.empty(3)
     for f in range(tri.shape[0]):
         a = p[tri[f, 0]]
@@ -225,14 +246,24 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
                     r2 = q[2] - (u * a[2] + v * b[2] + w * c[2])
                     d = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
                     if d < abs(dist[i, j, k]):
+                        on_rim = False
                         if region == 0:
                             n = face_n[f]
                         elif region <= 3:
                             n = edge_n[f, region - 1]
+                            on_rim = rim_edge[f, region - 1]
                         else:
                             n = vert_n[tri[f, region - 4]]
-                        side = r0 * n[0] + r1 * n[1] + r2 * n[2]
-                        dist[i, j, k] = d if side >= 0.0 else -d
+                            on_rim = rim_vertex[tri[f, region - 4]]
+                        if on_rim:
+                            # past the open rim: distance to this face's plane (the surface
+                            # continued flat), keeping the level set linear across the rim
+                            n = face_n[f]
+                            dd = (q[0] - a[0]) * n[0] + (q[1] - a[1]) * n[1] + (q[2] - a[2]) * n[2]
+                            dist[i, j, k] = dd if abs(dd) > 1e-300 else 1e-300
+                        else:
+                            side = r0 * n[0] + r1 * n[1] + r2 * n[2]
+                            dist[i, j, k] = d if side >= 0.0 else -d
                         for cc in range(3):
                             vel[i, j, k, cc] = (u * vel_pts[tri[f, 0], cc] + v * vel_pts[tri[f, 1], cc]
                                                 + w * vel_pts[tri[f, 2], cc])
@@ -283,16 +314,19 @@ def lattice_distance(interface: Interface, origin, spacing, shape, band: float):
         v2 = np.ascontiguousarray(interface.velocities[:, [0, 2]])
         seg_n, vert_n = _pseudo_normals_2d(p2, interface.faces)
         vel2 = np.zeros(shape + (2,))
+        valence = np.bincount(interface.faces.ravel(), minlength=len(p2))
         _band_segments(origin, spacing, np.array(shape), band, p2, v2, interface.faces,
-                       seg_n, vert_n, dist, vel2)
+                       seg_n, vert_n, valence == 1, dist, vel2)
         vel = np.zeros(shape + (3,))
         vel[..., 0] = vel2[..., 0]
         vel[..., 2] = vel2[..., 1]
     else:
         if interface.is_meridian:
             raise ValueError("a 3-D grid needs a triangulated interface ((m, 3) faces)")
-        face_n, vert_n, edge_n = _pseudo_normals_3d(interface.points, interface.faces)
+        face_n, vert_n, edge_n, rim_edge, rim_vertex = _pseudo_normals_3d(interface.points,
+                                                                          interface.faces)
         vel = np.zeros(shape + (3,))
         _band_triangles(origin, spacing, np.array(shape), band, interface.points,
-                        interface.velocities, interface.faces, face_n, vert_n, edge_n, dist, vel)
+                        interface.velocities, interface.faces, face_n, vert_n, edge_n, rim_edge,
+                        rim_vertex, dist, vel)
     return _flood_fill_sign(dist), vel

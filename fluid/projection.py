@@ -126,9 +126,24 @@ def face_gradient(model: FluidModel, cell_values: np.ndarray, boundary: np.ndarr
     return out
 
 
+def gradient_weights(model: FluidModel, geometry: Geometry) -> np.ndarray:
+    """(n_faces,) weight of each face in the cell-gradient reconstruction: wetted fraction
+    times the smaller liquid fraction of the two cells, so that a face into a sliver cell
+    the interface has just uncovered counts in proportion to the sliver (the reconstruction
+    then varies continuously as the interface crosses grid lines)."""
+    g = model.grid
+    alpha = geometry.cell_fraction
+    p_cell, n_cell = g.face_cells
+    smaller = alpha[p_cell].copy()
+    inner = n_cell >= 0
+    smaller[inner] = np.minimum(smaller[inner], alpha[n_cell[inner]])
+    return geometry.face_fraction * smaller
+
+
 def cell_gradient(model: FluidModel, face_grad: np.ndarray, beta: np.ndarray) -> np.ndarray:
-    """(n_cells, dim) cell gradient: per axis, the beta-weighted mean of the face normal
-    gradients of the cell's two faces on that axis."""
+    """(n_cells, dim) cell gradient: per axis, the weighted mean (weights ``beta``, see
+    :func:`gradient_weights`) of the face normal gradients of the cell's two faces on that
+    axis."""
     g = model.grid
     along = face_grad * g.face_sign * beta
     num = np.zeros((g.n_cells, g.dim))
@@ -154,14 +169,23 @@ def net_outflow(model: FluidModel, face_flux: np.ndarray) -> np.ndarray:
     return out
 
 
-def interpolate_to_faces(model: FluidModel, cell_vec: np.ndarray) -> np.ndarray:
-    """(n_faces,) normal component (along FiPy's normal) of the face average of cell vectors
-    (n_cells, dim); exterior faces take the adjacent cell's value."""
+def interpolate_to_faces(model: FluidModel, cell_vec: np.ndarray,
+                         fluid: np.ndarray) -> np.ndarray:
+    """(n_faces,) normal component (along FiPy's normal) of cell vectors (n_cells, dim)
+    averaged onto the faces over the adjacent cells whose centre is in the liquid (``fluid``;
+    both cells if neither is): a wall-centre cell holds the wall velocity for the no-slip
+    condition, not the liquid's, and must not be averaged in. Exterior faces take the
+    adjacent cell's value."""
     g = model.grid
     p_cell, n_cell = g.face_cells
     comp = cell_vec[p_cell, g.face_axis]
     inner = n_cell >= 0
-    comp[inner] = 0.5 * (comp[inner] + cell_vec[n_cell[inner], g.face_axis[inner]])
+    a, b = p_cell[inner], n_cell[inner]
+    wa = fluid[a].astype(float)
+    wb = fluid[b].astype(float)
+    neither = (wa + wb) == 0
+    wa[neither] = wb[neither] = 1.0
+    comp[inner] = (wa * comp[inner] + wb * cell_vec[b, g.face_axis[inner]]) / (wa + wb)
     return comp * g.face_sign
 
 
@@ -242,7 +266,8 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     # old pressure: Dirichlet values of the previous step on pressure ports
     p_bc_old = port_values(model, ops, state.time)
     grad_f_old = face_gradient(model, state.pressure, p_bc_old)
-    grad_c_old = cell_gradient(model, grad_f_old, beta)
+    weights = gradient_weights(model, geometry)
+    grad_c_old = cell_gradient(model, grad_f_old, weights)
     u_flow = _flow_port_velocity(model, ops, beta, t1)
 
     # 1. momentum predictor
@@ -268,7 +293,22 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     # 2. Rhie-Chow face velocities
     tic = _time.perf_counter()
     u_tilde = u_star + np.where(fluid[:, None], dt / rho * grad_c_old, 0.0)
-    u_face = interpolate_to_faces(model, u_tilde) - dt / rho * grad_f_old
+    u_face = interpolate_to_faces(model, u_tilde, fluid) - dt / rho * grad_f_old
+    # A wetted face between two wall-centred cells (the ring of cut cells along an immersed
+    # wall) has no momentum equation of its own: it keeps its own old velocity (inertia,
+    # Choi 1999's memory term) and the wall holds its liquid back by the shear of a layer
+    # beta h / 2 thick (implicit). Without the memory the ring restarts from the wall velocity
+    # every step and the liquid column behaves as if an O(h) heavier.
+    p_cell, n_cell = g.face_cells
+    ring = (n_cell >= 0) & (beta > 0) & ~fluid[p_cell] & ~fluid[np.maximum(n_cell, 0)] & \
+        (state.geometry.face_fraction > 0)
+    old_cells = np.where(fluid[:, None], state.cell_velocity, wall)
+    u_face[ring] += (state.face_velocity - interpolate_to_faces(model, old_cells, fluid))[ring]
+    if model.viscosity > 0 and ring.any():
+        layer = np.maximum(0.5 * beta[ring], THETA_MIN) * g.spacing
+        u_wall = interpolate_to_faces(model, wall, fluid)[ring]
+        u_face[ring] = u_wall + (u_face[ring] - u_wall) / \
+            (1.0 + dt * model.viscosity / (rho * layer**2))
     exterior = g.face_cells[1] < 0
     u_face[exterior & ~ops.pressure_faces] = 0.0
     u_face[ops.flow_faces] = u_flow[ops.flow_faces]
@@ -306,14 +346,59 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     u_face_new = u_face - dt / rho * grad_f
     u_face_new[ops.flow_faces] = u_flow[ops.flow_faces]
     u_face_new[beta == 0] = 0.0
-    u_cell = u_star - dt / rho * cell_gradient(model, grad_f, beta)
+    u_cell = u_star - dt / rho * cell_gradient(model, grad_f, weights)
     u_cell[~fluid] = wall[~fluid]
     residual = net_outflow(model, beta * g.face_area * u_face_new) + dvol / dt
     divergence = float(np.max(np.abs(residual[coupled]) / g.cell_volume[coupled])) \
         if coupled.any() else 0.0
+    pressure = _extend_pressure(model, state.pressure + dp, coupled, p_bc_new, weights)
     new = FluidState(time=t1, cell_velocity=u_cell, face_velocity=u_face_new,
-                     pressure=state.pressure + dp, geometry=geometry, port_pressure=p_bc_new)
+                     pressure=pressure, geometry=geometry, port_pressure=p_bc_new)
     return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure)
+
+
+#: layers of cells outside the liquid that get an extrapolated pressure after each step
+GHOST_LAYERS = 2
+
+
+def _extend_pressure(model: FluidModel, pressure: np.ndarray, coupled: np.ndarray,
+                     boundary: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """Give the cells next to the liquid (``GHOST_LAYERS`` deep) the pressure extrapolated
+    linearly from their liquid neighbours, so that a cell the interface uncovers next step
+    starts from a consistent value (a stale value would enter the old-pressure gradient of
+    the incremental scheme and make the fluid's response jump as the interface crosses a
+    grid line)."""
+    g = model.grid
+    grad = cell_gradient(model, face_gradient(model, pressure, boundary), weights)
+    valid = coupled.copy()
+    out = pressure.copy()
+    p_cell, n_cell = g.face_cells
+    inner = n_cell >= 0
+    a, b = p_cell[inner], n_cell[inner]
+    for _ in range(GHOST_LAYERS):
+        total = np.zeros(g.n_cells)
+        count = np.zeros(g.n_cells)
+        for src, dst in ((a, b), (b, a)):
+            use = valid[src] & ~valid[dst]
+            s_, d_ = src[use], dst[use]
+            value = out[s_] + np.einsum("ij,ij->i", grad[s_],
+                                        g.cell_centre[d_] - g.cell_centre[s_])
+            np.add.at(total, d_, value)
+            np.add.at(count, d_, 1.0)
+        new = count > 0
+        if not new.any():
+            break
+        out[new] = total[new] / count[new]
+        # the new layer extrapolates with its neighbours' gradient
+        grad_new = np.zeros((g.n_cells, g.dim))
+        cnt = np.zeros(g.n_cells)
+        for src, dst in ((a, b), (b, a)):
+            use = valid[src] & new[dst]
+            np.add.at(grad_new, dst[use], grad[src[use]])
+            np.add.at(cnt, dst[use], 1.0)
+        grad[new] = grad_new[new] / cnt[new, None]
+        valid |= new
+    return out
 
 
 def _merge_dead_cells(model: FluidModel, dvol: np.ndarray, coupled: np.ndarray,

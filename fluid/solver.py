@@ -98,15 +98,17 @@ class FluidSolver:
             raise ValueError("this fluid has no interface")
         return self.pressure_at(self.interface.points, level)
 
-    def store_checkpoint(self) -> None:
-        """Remember the current state (states are immutable; this is a reference)."""
+    def store_checkpoint(self):
+        """Remember the current state and return it (states are immutable: a reference)."""
         self._checkpoint = (self.state, self.interface)
+        return self._checkpoint
 
-    def restore_checkpoint(self) -> None:
-        """Return to the last stored state."""
-        if self._checkpoint is None:
+    def restore_checkpoint(self, checkpoint=None) -> None:
+        """Return to ``checkpoint`` (default: the last stored one)."""
+        checkpoint = checkpoint if checkpoint is not None else self._checkpoint
+        if checkpoint is None:
             raise RuntimeError("restore_checkpoint before store_checkpoint")
-        self.state, self.interface = self._checkpoint
+        self.state, self.interface = checkpoint
 
     def velocity_magnitude_max(self) -> float:
         """Largest cell speed (m/s) among cells whose centre is in the liquid."""
