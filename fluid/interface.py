@@ -96,21 +96,15 @@ def _pseudo_normals_3d(points, faces):
         cosang = (e1 * e2).sum(1) / np.maximum(
             np.linalg.norm(e1, axis=1) * np.linalg.norm(e2, axis=1), 1e-300)
         np.add.at(vertex, faces[:, k], n * np.arccos(np.clip(cosang, -1, 1))[:, None])
-    edge_key = {}
-    for fi, tri in enumerate(faces):
-        for k in range(3):
-            key = tuple(sorted((tri[k], tri[(k + 1) % 3])))
-            edge_key.setdefault(key, []).append(fi)
-    edge = np.empty((len(faces), 3, 3))
-    rim_edge = np.zeros((len(faces), 3), dtype=bool)
+    pairs = np.sort(np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
+    _, inverse, count = np.unique(pairs, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    sums = np.zeros((len(count), 3))
+    np.add.at(sums, inverse, np.repeat(n, 3, axis=0))
+    edge = sums[inverse].reshape(len(faces), 3, 3)
+    rim_edge = (count[inverse] == 1).reshape(len(faces), 3)
     rim_vertex = np.zeros(len(points), dtype=bool)
-    for fi, tri in enumerate(faces):
-        for k in range(3):
-            key = tuple(sorted((tri[k], tri[(k + 1) % 3])))
-            edge[fi, k] = n[edge_key[key]].sum(0)
-            if len(edge_key[key]) == 1:
-                rim_edge[fi, k] = True
-                rim_vertex[list(key)] = True
+    rim_vertex[pairs[count[inverse] == 1].ravel()] = True
     return n, vertex, edge, rim_edge, rim_vertex
 
 
@@ -178,29 +172,31 @@ def _band_segments(origin, spacing, shape, band, p2, v2, seg, seg_n, vert_n, is_
                         vel[i, j, c] = (1 - t) * v2[a, c] + t * v2[b, c]
 
 
+@njit(**JIT, inline="always")
+def _dot3(ax, ay, az, bx, by, bz):
+    return ax * bx + ay * by + az * bz
+
+
 @njit(**JIT)
-def _closest_on_triangle(p, a, b, c):
+def _closest_on_triangle(px, py, pz, a, b, c):
     """Closest point of triangle abc to p: (barycentric u, v, w, region) with region 0 = face,
     1..3 = edge ab, bc, ca, 4..6 = vertex a, b, c (Ericson, Real-Time Collision Detection)."""
-    ab = b - a
-    ac = c - a
-    ap = p - a
-    d1 = ab @ ap
-    d2 = ac @ ap
+    abx, aby, abz = b[0] - a[0], b[1] - a[1], b[2] - a[2]
+    acx, acy, acz = c[0] - a[0], c[1] - a[1], c[2] - a[2]
+    d1 = _dot3(abx, aby, abz, px - a[0], py - a[1], pz - a[2])
+    d2 = _dot3(acx, acy, acz, px - a[0], py - a[1], pz - a[2])
     if d1 <= 0.0 and d2 <= 0.0:
         return 1.0, 0.0, 0.0, 4
-    bp = p - b
-    d3 = ab @ bp
-    d4 = ac @ bp
+    d3 = _dot3(abx, aby, abz, px - b[0], py - b[1], pz - b[2])
+    d4 = _dot3(acx, acy, acz, px - b[0], py - b[1], pz - b[2])
     if d3 >= 0.0 and d4 <= d3:
         return 0.0, 1.0, 0.0, 5
     vc = d1 * d4 - d3 * d2
     if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
         v = d1 / (d1 - d3)
         return 1.0 - v, v, 0.0, 1
-    cp = p - c
-    d5 = ab @ cp
-    d6 = ac @ cp
+    d5 = _dot3(abx, aby, abz, px - c[0], py - c[1], pz - c[2])
+    d6 = _dot3(acx, acy, acz, px - c[0], py - c[1], pz - c[2])
     if d6 >= 0.0 and d5 <= d6:
         return 0.0, 0.0, 1.0, 6
     vb = d5 * d2 - d1 * d6
@@ -223,12 +219,12 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
     """Signed distance and closest-point velocity on the 3-D lattice within ``band`` (m).
     ``rim_edge`` (m, 3) / ``rim_vertex`` (n,): on the open boundary of the surface."""
     q = np.empty(3)
+    lo = np.empty(3, dtype=np.int64)
+    hi = np.empty(3, dtype=np.int64)
     for f in range(tri.shape[0]):
         a = p[tri[f, 0]]
         b = p[tri[f, 1]]
         c = p[tri[f, 2]]
-        lo = np.empty(3, dtype=np.int64)
-        hi = np.empty(3, dtype=np.int64)
         for ax in range(3):
             mn = min(a[ax], b[ax], c[ax]) - band
             mx = max(a[ax], b[ax], c[ax]) + band
@@ -240,7 +236,7 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
                 q[1] = origin[1] + j * spacing[1]
                 for k in range(lo[2], hi[2] + 1):
                     q[2] = origin[2] + k * spacing[2]
-                    u, v, w, region = _closest_on_triangle(q, a, b, c)
+                    u, v, w, region = _closest_on_triangle(q[0], q[1], q[2], a, b, c)
                     r0 = q[0] - (u * a[0] + v * b[0] + w * c[0])
                     r1 = q[1] - (u * a[1] + v * b[1] + w * c[1])
                     r2 = q[2] - (u * a[2] + v * b[2] + w * c[2])
