@@ -62,8 +62,9 @@ class Interface:
         return Interface(points, self.faces, velocities)
 
     def enclosed_change_rate(self) -> float:
-        """d/dt of the volume on the liquid side (m^3/s) implied by the point velocities:
-        minus the flux of the velocity through the surface along its normals (trapezoidal)."""
+        """d/dt of the volume on the liquid side (m^3/s) implied by the point velocities: the
+        flux of the velocity through the surface along its normals (which point out of the
+        liquid, so moving along them makes room for liquid); trapezoidal in each face."""
         p, v, f = self.points, self.velocities, self.faces
         if self.is_meridian:
             a, b = p[f[:, 0]][:, [0, 2]], p[f[:, 1]][:, [0, 2]]
@@ -74,11 +75,11 @@ class Interface:
             ra, rb = a[:, 0], b[:, 0]
             una, unb = (va * normal).sum(1), (vb * normal).sum(1)
             flux = 2 * np.pi * (ra * una / 3 + ra * unb / 6 + rb * una / 6 + rb * unb / 3)
-            return float(-flux.sum())
+            return float(flux.sum())
         a, b, c = p[f[:, 0]], p[f[:, 1]], p[f[:, 2]]
         normal2 = np.cross(b - a, c - a)
         vmean = (v[f[:, 0]] + v[f[:, 1]] + v[f[:, 2]]) / 3
-        return float(-0.5 * (vmean * normal2).sum())
+        return float(0.5 * (vmean * normal2).sum())
 
 
 def _pseudo_normals_3d(points, faces):

@@ -55,6 +55,14 @@ def test_interface_distance_signs_meridian_and_surface():
     assert np.all(np.sign(d[2]) == np.where(z < 0.0123, 1, -1))  # liquid above: phi < 0
     near = np.abs(z - 0.0123) < 0.02
     assert np.allclose(np.abs(d[2][near]), np.abs(z[near] - 0.0123))
+    # a plane rising at v with the liquid below makes room at pi r^2 v (meridian) or
+    # (2 r)^2 v (square surface)
+    assert flat_interface(0.0, 0.1, 0.3, True, False).enclosed_change_rate() == \
+        pytest.approx(np.pi * 0.1**2 * 0.3, rel=1e-12)
+    assert flat_interface(0.0, 0.1, 0.3, False, False).enclosed_change_rate() == \
+        pytest.approx(0.2**2 * 0.3, rel=1e-12)
+    assert flat_interface(0.0, 0.1, 0.3, False, True).enclosed_change_rate() == \
+        pytest.approx(-0.2**2 * 0.3, rel=1e-12)
     surf = bowl_surface(R, 0.05, 12)
     d3, _ = lattice_distance(surf, [-0.2, -0.2, -0.2], [0.04] * 3, (11, 11, 11), band=0.1)
     assert d3[5, 5, 0] < 0 and d3[5, 5, 10] > 0  # liquid below the bowl
