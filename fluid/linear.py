@@ -63,3 +63,14 @@ def make_solver(name: str, tolerance: float = 1e-10, iterations: int = 2000, *, 
         raise ValueError(f"linear solver {name!r} needs a symmetric system; for momentum use "
                          f"one of {sorted(set(LINEAR_SOLVERS) - SYMMETRIC_ONLY)}")
     return LINEAR_SOLVERS[name](tolerance, iterations)
+
+
+def pressure_solver_for(n_cells: int, axisymmetric: bool) -> str:
+    """The pressure solver that was fastest on this machine (``benchmarks/fluid_step.py``):
+    sparse LU on axisymmetric grids (8k unknowns in 2-D: little fill-in, no iterations);
+    Jacobi-preconditioned CG on 3-D grids up to ~40k cells (LU fill-in grows, the Jacobi
+    iteration count is still small); smoothed-aggregation AMG beyond (its iteration count stays
+    flat as the grid grows, which pays for its setup at every step)."""
+    if axisymmetric:
+        return "lu"
+    return "pcg-jacobi" if n_cells <= 40_000 else "pcg-amg"

@@ -61,7 +61,9 @@ class FluidModel:
     body_acceleration: (3,) m/s^2 or a function of time (s) returning it (gravity minus the
     tank's acceleration; on an axisymmetric grid only its z component may be non-zero);
     convection: keep the nonlinear term (off for Stokes / linear acoustics-free checks);
-    momentum_solver, pressure_solver: names in :data:`fluid.linear.LINEAR_SOLVERS`;
+    momentum_solver, pressure_solver: names in :data:`fluid.linear.LINEAR_SOLVERS`
+    (``auto`` for the pressure: the fastest measured for the grid, see
+    :func:`fluid.linear.pressure_solver_for`);
     pressure_tolerance: relative residual of the pressure solve.
     """
 
@@ -72,8 +74,8 @@ class FluidModel:
     ports: tuple = ()
     body_acceleration: object = (0.0, 0.0, -9.81)
     convection: bool = True
-    momentum_solver: str = "lu"
-    pressure_solver: str = "lu"
+    momentum_solver: str = "bicgstab-jacobi"
+    pressure_solver: str = "auto"
     pressure_tolerance: float = 1e-10
 
     def __post_init__(self):

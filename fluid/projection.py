@@ -30,7 +30,7 @@ import fipy as fp
 import numpy as np
 
 from .geometry import Geometry
-from .linear import make_solver
+from .linear import make_solver, pressure_solver_for
 from .model import FluidModel, FluidState
 
 #: smallest wall distance fraction used by the immersed viscous condition
@@ -112,8 +112,11 @@ class ProjectionOperators:
             - fp.ImplicitSourceTerm(coeff=self.pressure_pin, var=self.correction) \
             == self.pressure_source
         self.momentum_solver = make_solver(model.momentum_solver, 1e-10, 1000, symmetric=False)
-        self.pressure_solver = make_solver(model.pressure_solver, model.pressure_tolerance,
-                                           2000, symmetric=True)
+        name = model.pressure_solver
+        if name == "auto":
+            name = pressure_solver_for(grid.n_cells, grid.axisymmetric)
+        self.pressure_solver_name = name
+        self.pressure_solver = make_solver(name, model.pressure_tolerance, 2000, symmetric=True)
 
 
 # ---------------------------------------------------------------- discrete operators (numpy)
