@@ -437,15 +437,19 @@ def _merge_dead_cells(model: FluidModel, dvol: np.ndarray, coupled: np.ndarray,
 
 def _solve_quietly(equation, var, dt, solver) -> None:
     """FiPy solve without two harmless warnings: numpy's 0/0 in FiPy's Peclet number on faces
-    of zero area, and a Krylov 'breakdown' at a residual already below 1e-14 (a system whose
-    solution is its initial guess, e.g. liquid at rest). Any other solver warning passes."""
+    of zero area, and a Krylov 'breakdown' at a residual below 1e-14 (a system whose solution
+    is its initial guess, e.g. liquid at rest). Any other breakdown is repaired by solving again
+    with sparse LU; other solver warnings pass."""
     with warnings.catch_warnings(record=True) as caught, \
             np.errstate(invalid="ignore", divide="ignore"):
         warnings.simplefilter("always")
         equation.solve(var=var, dt=dt, solver=solver)
     for w in caught:
         text = str(w.message)
-        if "BREAKDOWN" in text and float(text.rsplit("residual=", 1)[-1]) < 1e-14:
+        if "BREAKDOWN" in text:
+            if float(text.rsplit("residual=", 1)[-1]) >= 1e-14:
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    equation.solve(var=var, dt=dt, solver=make_solver("lu", symmetric=False))
             continue
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
