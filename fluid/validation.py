@@ -8,11 +8,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from .container import SphericalTank, UprightCylinder
 from .grid import TankGrid, axisymmetric_grid, cartesian_grid
 from .interface import Interface
 from .model import FluidModel, Port
+from .solver import FluidSolver
 
 #: fraction of a cell by which validation walls sit off the grid lines
 OFF_GRID = 0.37
@@ -166,3 +168,89 @@ def spherical_cap_volume(radius: float, z: float) -> float:
 def sphere_cross_section(radius: float, z: float) -> float:
     """Area (m^2) of the sphere's horizontal section at height z."""
     return np.pi * (radius**2 - z**2)
+
+
+# ------------------------------------------------------------------ the checks, measured
+
+def hydrostatic_check(radius: float, axisymmetric: bool, cells: int, steps: int = 100,
+                      density: float = 1000.0, gravity: float = 9.81,
+                      level: float = 0.05) -> dict:
+    """Membrane (a bowl) at rest in the immersed sphere under a pressure port holding the
+    equivalent height ``level`` (m): largest relative error of p = rho g (h - z) at the
+    membrane points and largest speed (m/s) after ``steps`` steps of 1 ms."""
+    grid = tank_grid(radius, cells, axisymmetric)
+    port = Port("bottom", "pressure", density * gravity * (level - grid.lower[-1]))
+    model = sphere_model(radius, grid, [port], density=density,
+                         body_acceleration=(0.0, 0.0, -gravity))
+    itf = bowl_meridian(radius, 0.3 * radius) if axisymmetric else \
+        bowl_surface(radius, 0.3 * radius, 16)
+    solver = FluidSolver(model, itf)
+    for _ in range(steps):
+        solver.advance(1e-3, itf)
+    inside = np.hypot(itf.points[:, 0], itf.points[:, 1]) < radius
+    p = solver.pressure_at(itf.points[inside])
+    exact = density * gravity * (level - itf.points[inside, 2])
+    return {"grid": list(grid.shape), "steps": steps,
+            "max_relative_error": float(np.max(np.abs(p - exact) / np.abs(exact))),
+            "max_speed_m_s": solver.velocity_magnitude_max()}
+
+
+def piston_check(cells: int, steps: int = 50, dt: float = 1e-3) -> dict:
+    """:class:`PistonCase` after ``steps`` steps: largest relative error of rho (g + a) h over
+    8 points of the piston, and of its added-mass part rho a h."""
+    case = PistonCase(cells_across=cells)
+    model = case.model()
+    solver = FluidSolver(model, case.piston(0.0))
+    for k in range(1, steps + 1):
+        solver.advance(dt, case.piston(k * dt))
+    z = solver.interface.points[0, 2]
+    pts = np.stack([np.linspace(0, 0.9 * case.radius, 8), np.zeros(8), np.full(8, z)], axis=1)
+    err = float(np.max(np.abs(solver.pressure_at(pts) / case.oracle(model, steps * dt) - 1)))
+    added = case.acceleration / (case.gravity + case.acceleration)
+    return {"cells_across": cells, "max_relative_error": err,
+            "max_error_of_added_mass_part": err / added}
+
+
+def volume_check(radius: float, cells: int = 32, steps: int = 200, flow: float = 1.0e-3,
+                 dt: float = 5e-3, start_height: float = -0.05) -> dict:
+    """Port inflow ``flow`` (m^3/s) into the sphere with the membrane a plane rising at
+    Q / A(z) (A the sphere's section): the liquid volume's departure from V0 + Q t relative to
+    Q t, the largest |volume mismatch| / Q, and the largest continuity residual relative to
+    Q / V0, over ``steps`` steps."""
+    grid = tank_grid(radius, cells, True)
+    model = sphere_model(radius, grid, [Port("bottom", "flow", flow)])
+    v_start = spherical_cap_volume(radius, start_height)
+
+    def plane(t):
+        z = brentq(lambda zz: spherical_cap_volume(radius, zz) - v_start - flow * t,
+                   -radius, radius)
+        return flat_interface(z, 1.1 * radius, flow / sphere_cross_section(radius, z), True,
+                              False)
+
+    solver = FluidSolver(model, plane(0.0))
+    v0 = solver.liquid_volume
+    mismatch = divergence = 0.0
+    for k in range(1, steps + 1):
+        report = solver.advance(dt, plane(k * dt))
+        mismatch = max(mismatch, abs(report.volume_mismatch))
+        divergence = max(divergence, report.divergence)
+    return {"steps": steps,
+            "relative_volume_error": float((solver.liquid_volume - v0) / (flow * steps * dt) - 1),
+            "max_volume_mismatch_over_Q": mismatch / flow,
+            "max_divergence_over_Q_per_V": divergence / (flow / v0)}
+
+
+def poiseuille_error(cells: int, dt: float = 0.01) -> float:
+    """:class:`PoiseuilleCase` after six viscous times: largest error of the profile at
+    mid-length over its maximum."""
+    case = PoiseuilleCase(cells_across=cells)
+    model = case.model()
+    solver = FluidSolver(model)
+    for _ in range(int(6 * case.viscous_time / dt)):
+        solver.advance(dt)
+    g = model.grid
+    mid = g.centre_axes[1][g.shape[1] // 2]
+    sel = (np.abs(g.cell_centre[:, 1] - mid) < 0.25 * g.spacing) & \
+        solver.state.geometry.fluid_centre
+    exact = case.profile(model, g.cell_centre[sel, 0])
+    return float(np.max(np.abs(solver.state.cell_velocity[sel, 1] - exact)) / exact.max())

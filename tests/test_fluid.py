@@ -7,7 +7,6 @@ Flow, 3rd ed., Sec. 3-3).
 """
 import numpy as np
 import pytest
-from scipy.optimize import brentq
 
 from fluid import cutcell
 from fluid.container import SphericalTank, UprightCylinder
@@ -15,9 +14,9 @@ from fluid.grid import axisymmetric_grid
 from fluid.interface import Interface, lattice_distance
 from fluid.model import FluidModel, Port
 from fluid.solver import FluidSolver
-from fluid.validation import (PistonCase, PoiseuilleCase, bowl_meridian, bowl_surface,
-                              flat_interface, sphere_cross_section, sphere_model,
-                              spherical_cap_volume, tank_grid)
+from fluid.validation import (bowl_meridian, bowl_surface, flat_interface, hydrostatic_check,
+                              piston_check, poiseuille_error, sphere_model, tank_grid,
+                              volume_check)
 from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY
 
 R = TANK_RADIUS
@@ -74,20 +73,9 @@ def test_interface_distance_signs_meridian_and_surface():
 def test_hydrostatic_interface_pressure_and_no_spurious_flow(axisymmetric, cells):
     """At rest in the immersed sphere with a membrane: p = rho g (h - z) within 0.5 % at the
     membrane points and |u| <= 1e-6 m/s after 100 steps."""
-    grid = tank_grid(R, cells, axisymmetric)
-    level = 0.05  # m, equivalent height above the tank centre
-    z_port = grid.lower[-1]
-    model = sphere_model(R, grid, [Port("bottom", "pressure", RHO * G * (level - z_port))],
-                         momentum_solver="bicgstab-jacobi", pressure_solver="pcg-jacobi")
-    itf = bowl_meridian(R, 0.3 * R) if axisymmetric else bowl_surface(R, 0.3 * R, 16)
-    solver = FluidSolver(model, itf)
-    for _ in range(100):
-        solver.advance(1e-3, itf)
-    inside = np.hypot(itf.points[:, 0], itf.points[:, 1]) < R
-    p = solver.pressure_at(itf.points[inside])
-    expected = RHO * G * (level - itf.points[inside, 2])
-    assert np.max(np.abs(p - expected) / np.abs(expected)) < 5e-3
-    assert solver.velocity_magnitude_max() <= 1e-6
+    result = hydrostatic_check(R, axisymmetric, cells, density=RHO, gravity=G)
+    assert result["max_relative_error"] < 5e-3
+    assert result["max_speed_m_s"] <= 1e-6
 
 
 def test_accelerating_tank_with_closed_port_stays_at_rest():
@@ -115,70 +103,30 @@ def test_accelerating_tank_with_closed_port_stays_at_rest():
 def test_piston_added_mass_pressure():
     """Rigid piston accelerating at a under a full column of depth h: p = rho (g + a) h within
     2 % (viscous wall shear and the discrete column end are the difference)."""
-    case = PistonCase()
-    model = case.model()
-    solver = FluidSolver(model, case.piston(0.0))
-    dt = 1e-3
-    for k in range(1, 51):
-        solver.advance(dt, case.piston(k * dt))
-    z = solver.interface.points[0, 2]
-    pts = np.stack([np.linspace(0, 0.9 * case.radius, 8), np.zeros(8), np.full(8, z)], axis=1)
-    p = solver.pressure_at(pts)
-    assert np.max(np.abs(p / case.oracle(model, 50 * dt) - 1)) < 0.02
+    assert piston_check(32)["max_relative_error"] < 0.02
 
 
 # ------------------------------------------------------------------ volume bookkeeping
 
 def test_volume_bookkeeping_with_port_inflow():
     """Port inflow Q, membrane (a plane) rising at Q / A(z): liquid volume = V0 + Q t within
-    0.1 % of the change over 200 steps; continuity residual at solver precision."""
-    grid = tank_grid(R, 32, True)
-    Q, dt, z0 = 1.0e-3, 5e-3, -0.05
-    model = sphere_model(R, grid, [Port("bottom", "flow", Q)],
-                         momentum_solver="bicgstab-jacobi", pressure_solver="pcg-jacobi")
-    v_start = spherical_cap_volume(R, z0)
-
-    def plane(t):
-        z = brentq(lambda zz: spherical_cap_volume(R, zz) - v_start - Q * t, -R, R)
-        return flat_interface(z, 1.1 * R, Q / sphere_cross_section(R, z), True, False)
-
-    solver = FluidSolver(model, plane(0.0))
-    v0 = solver.liquid_volume
-    worst_mismatch = worst_divergence = 0.0
-    for k in range(1, 201):
-        report = solver.advance(dt, plane(k * dt))
-        worst_mismatch = max(worst_mismatch, abs(report.volume_mismatch))
-        worst_divergence = max(worst_divergence, report.divergence)
-    change = Q * 200 * dt
-    assert abs((solver.liquid_volume - v0) / change - 1) < 1e-3
-    assert worst_mismatch < 1e-3 * Q
+    0.1 % of the change over 200 steps; continuity residual and volume mismatch small."""
+    result = volume_check(R)
+    assert abs(result["relative_volume_error"]) < 1e-3
+    assert result["max_volume_mismatch_over_Q"] < 1e-3
     # residual per unit volume against the mean volumetric rate Q / V
-    assert worst_divergence < 1e-3 * Q / v0
+    assert result["max_divergence_over_Q_per_V"] < 1e-3
 
 
 # ------------------------------------------------------------------ viscous no-slip
 
-def _poiseuille_error(cells):
-    case = PoiseuilleCase(cells_across=cells)
-    model = case.model()
-    solver = FluidSolver(model)
-    for _ in range(int(6 * case.viscous_time / 0.01)):
-        solver.advance(0.01)
-    g = model.grid
-    mid = g.centre_axes[1][g.shape[1] // 2]
-    sel = (np.abs(g.cell_centre[:, 1] - mid) < 0.25 * g.spacing) & \
-        solver.state.geometry.fluid_centre
-    exact = case.profile(model, g.cell_centre[sel, 0])
-    return np.max(np.abs(solver.state.cell_velocity[sel, 1] - exact)) / exact.max()
-
-
 def test_poiseuille_through_immersed_wall():
     """Pipe wall 0.37 cell off the grid lines: profile within 1 % of Hagen-Poiseuille."""
-    assert _poiseuille_error(16) < 0.01
+    assert poiseuille_error(16) < 0.01
 
 
 def test_poiseuille_grid_convergence_is_second_order():
-    errors = [_poiseuille_error(n) for n in (8, 16, 32)]
+    errors = [poiseuille_error(n) for n in (8, 16, 32)]
     orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     print("Poiseuille max error", errors, "observed order", orders)
     assert np.all(orders > 1.8)
