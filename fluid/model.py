@@ -14,7 +14,7 @@ caller supplies ``level`` (the Lagrange multiplier of the structure's volume con
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -114,16 +114,13 @@ class FluidModel:
 class FluidState:
     """time s; cell_velocity (n_cells, dim) m/s (r, z or x, y, z components);
     face_velocity (n_faces,) m/s along FiPy's face normal; pressure (n_cells,) reduced
-    pressure p_red (Pa, see module doc); geometry: the liquid region at ``time``;
-    port_pressure (n_faces,) reduced pressure imposed on pressure-port faces (Pa, NaN
-    elsewhere)."""
+    pressure p_red (Pa, see module doc); geometry: the liquid region at ``time``."""
 
     time: float
     cell_velocity: np.ndarray
     face_velocity: np.ndarray
     pressure: np.ndarray
     geometry: Geometry
-    port_pressure: np.ndarray = field(repr=False, default=None)
 
     def replace(self, **changes) -> "FluidState":
         return replace(self, **changes)

@@ -255,7 +255,7 @@ def initial_state(model: FluidModel, ops: ProjectionOperators, geometry: Geometr
             break
     return FluidState(time=time, cell_velocity=np.zeros((g.n_cells, g.dim)),
                       face_velocity=np.zeros(g.n_faces), pressure=np.full(g.n_cells, level),
-                      geometry=geometry, port_pressure=bc)
+                      geometry=geometry)
 
 
 def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometry: Geometry,
@@ -264,42 +264,76 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     if not dt > 0:
         raise ValueError(f"time step must be > 0 s, got {dt}")
     g = model.grid
-    dim = g.dim
     rho = model.density
     t1 = state.time + dt
     beta = geometry.face_fraction
     fluid = geometry.fluid_centre
     wall = geometry.wall_velocity[:, [0, 2]] if g.axisymmetric else geometry.wall_velocity
-
-    # old pressure: Dirichlet values of the previous step on pressure ports
     p_bc_old = port_values(model, ops, state.time)
+    p_bc_new = port_values(model, ops, t1)
     grad_f_old = face_gradient(model, state.pressure, p_bc_old)
     weights = gradient_weights(model, geometry)
     grad_c_old = cell_gradient(model, grad_f_old, weights)
     u_flow = _flow_port_velocity(model, ops, beta, t1)
 
-    # 1. momentum predictor
     tic = _time.perf_counter()
-    flux_old = state.face_velocity * beta
+    u_star = _momentum_predictor(model, ops, state, geometry, wall, grad_c_old, u_flow, dt)
+    toc_momentum = _time.perf_counter() - tic
+
+    tic = _time.perf_counter()
+    u_face = _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old,
+                             grad_f_old, u_flow, dt)
+    dp, dvol, coupled, mismatch = _pressure_correction(model, ops, state, geometry, u_face,
+                                                       p_bc_new - p_bc_old, dt)
+    toc_pressure = _time.perf_counter() - tic
+
+    dp_bc = np.where(ops.pressure_faces, p_bc_new - p_bc_old, np.nan)
+    grad_f = face_gradient(model, dp, dp_bc)
+    u_face_new = u_face - dt / rho * grad_f
+    u_face_new[ops.flow_faces] = u_flow[ops.flow_faces]
+    u_face_new[beta == 0] = 0.0
+    u_cell = u_star - dt / rho * cell_gradient(model, grad_f, weights)
+    u_cell[~fluid] = wall[~fluid]
+    residual = net_outflow(model, beta * g.face_area * u_face_new) + dvol / dt
+    divergence = float(np.max(np.abs(residual[coupled]) / g.cell_volume[coupled])) \
+        if coupled.any() else 0.0
+    pressure = _extend_pressure(model, state.pressure + dp, coupled, p_bc_new, weights)
+    new = FluidState(time=t1, cell_velocity=u_cell, face_velocity=u_face_new,
+                     pressure=pressure, geometry=geometry)
+    return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure)
+
+
+def _momentum_predictor(model, ops, state, geometry, wall, grad_c_old, u_flow, dt):
+    """Step 1: u* (n_cells, dim) m/s, wall-centred cells at the wall velocity."""
+    g = model.grid
+    rho = model.density
+    fluid = geometry.fluid_centre
+    flux_old = state.face_velocity * geometry.face_fraction
+    normals = np.asarray(g.mesh.faceNormals)
     ops.viscous_coeff.value = viscous_face_coefficient(model, geometry)
-    ops.flux_velocity.value = rho * flux_old[None, :] * np.asarray(g.mesh.faceNormals)
+    ops.flux_velocity.value = rho * flux_old[None, :] * normals
     ops.flux_divergence.value = rho * net_outflow(model, flux_old * g.face_area) / g.cell_volume
     stiffest = max(rho / dt, model.viscosity / (THETA_MIN * g.spacing**2))
     ops.pin.value = np.where(fluid, 0.0, PIN_FACTOR * stiffest)
-    normals = np.asarray(g.mesh.faceNormals)
-    for a in range(dim):
+    for a in range(g.dim):
         ops.pin_target[a].value = wall[:, a]
         ops.pressure_gradient[a].value = grad_c_old[:, a]
         ops.inflow[a].value = u_flow * normals[a]
         ops.velocity[a].value = np.where(fluid, state.cell_velocity[:, a], wall[:, a])
         ops.velocity[a].updateOld()
         _solve_quietly(ops.momentum[a], ops.velocity[a], dt, ops.momentum_solver)
-    u_star = np.stack([np.asarray(ops.velocity[a].value) for a in range(dim)], axis=1)
+    u_star = np.stack([np.asarray(ops.velocity[a].value) for a in range(g.dim)], axis=1)
     u_star[~fluid] = wall[~fluid]
-    toc_momentum = _time.perf_counter() - tic
+    return u_star
 
-    # 2. Rhie-Chow face velocities
-    tic = _time.perf_counter()
+
+def _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old, grad_f_old, u_flow,
+                    dt):
+    """Step 2: Rhie-Chow face velocities u*_f (n_faces,) m/s along FiPy's normals."""
+    g = model.grid
+    rho = model.density
+    beta = geometry.face_fraction
+    fluid = geometry.fluid_centre
     u_tilde = u_star + np.where(fluid[:, None], dt / rho * grad_c_old, 0.0)
     u_face = interpolate_to_faces(model, u_tilde, fluid) - dt / rho * grad_f_old
     # A wetted face between two wall-centred cells (the ring of cut cells along an immersed
@@ -317,52 +351,39 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
         u_wall = interpolate_to_faces(model, wall, fluid)[ring]
         u_face[ring] = u_wall + (u_face[ring] - u_wall) / \
             (1.0 + dt * model.viscosity / (rho * layer**2))
-    exterior = g.face_cells[1] < 0
+    exterior = n_cell < 0
     u_face[exterior & ~ops.pressure_faces] = 0.0
     u_face[ops.flow_faces] = u_flow[ops.flow_faces]
+    return u_face
 
-    # 3. pressure correction
-    area_open = beta * g.face_area
+
+def _pressure_correction(model, ops, state, geometry, u_face, dp_ports, dt):
+    """Step 3: the correction dp (n_cells,) Pa; also the cells' liquid-volume changes dvol
+    (FiPy m^3), the mask of cells in the pressure system and the volume mismatch (m^3/s)."""
+    g = model.grid
+    rho = model.density
+    area_open = geometry.face_fraction * g.face_area
     dvol = (geometry.cell_fraction - state.geometry.cell_fraction) * g.cell_volume
     coupled = (geometry.cell_fraction > 0) | (_open_area(model, area_open) > 0)
     dvol = _merge_dead_cells(model, dvol, coupled, geometry.cell_fraction)
     source = net_outflow(model, area_open * u_face) + dvol / dt  # FiPy m^3/s per cell
     mismatch = 0.0
-    pin_scale = dt / rho * 2 * dim / g.spacing**2
+    pin_scale = dt / rho * 2 * g.dim / g.spacing**2
     pressure_pin = np.where(coupled, 0.0, pin_scale)
-    p_bc_new = port_values(model, ops, t1)
     if not ops.pressure_faces.any():
         total = source[coupled].sum()
         weight = geometry.cell_fraction * g.cell_volume
         mismatch = total * g.volume_factor()
         source -= total * weight / weight.sum()
-        gauge = _gauge_cell(model, ops, geometry)
-        pressure_pin[gauge] = pin_scale
+        pressure_pin[_gauge_cell(model, ops, geometry)] = pin_scale
     else:
-        ops.correction_bc.value = np.nan_to_num(p_bc_new - p_bc_old)
-    ops.pressure_coeff.value = beta * dt / rho
+        ops.correction_bc.value = np.nan_to_num(dp_ports)
+    ops.pressure_coeff.value = geometry.face_fraction * dt / rho
     ops.pressure_pin.value = pressure_pin
     ops.pressure_source.value = source / g.cell_volume
     ops.correction.value = 0.0
     ops.pressure_eq.solve(var=ops.correction, solver=ops.pressure_solver)
-    dp = np.asarray(ops.correction.value).copy()
-    toc_pressure = _time.perf_counter() - tic
-
-    # 4. correction
-    dp_bc = np.where(ops.pressure_faces, p_bc_new - p_bc_old, np.nan)
-    grad_f = face_gradient(model, dp, dp_bc)
-    u_face_new = u_face - dt / rho * grad_f
-    u_face_new[ops.flow_faces] = u_flow[ops.flow_faces]
-    u_face_new[beta == 0] = 0.0
-    u_cell = u_star - dt / rho * cell_gradient(model, grad_f, weights)
-    u_cell[~fluid] = wall[~fluid]
-    residual = net_outflow(model, beta * g.face_area * u_face_new) + dvol / dt
-    divergence = float(np.max(np.abs(residual[coupled]) / g.cell_volume[coupled])) \
-        if coupled.any() else 0.0
-    pressure = _extend_pressure(model, state.pressure + dp, coupled, p_bc_new, weights)
-    new = FluidState(time=t1, cell_velocity=u_cell, face_velocity=u_face_new,
-                     pressure=pressure, geometry=geometry, port_pressure=p_bc_new)
-    return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure)
+    return np.asarray(ops.correction.value).copy(), dvol, coupled, mismatch
 
 
 #: layers of cells outside the liquid that get an extrapolated pressure after each step
