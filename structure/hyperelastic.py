@@ -50,6 +50,41 @@ class HyperelasticLaw:
     def coefficients(self) -> np.ndarray:
         return np.array([self.c10, self.c20, self.c30])
 
+    @property
+    def stiffness_scale(self) -> float:
+        """A modulus (Pa) to scale energies by."""
+        return self.c10
+
+    def energy_and_gradient(self, membrane: "TriangleMembrane", pos: np.ndarray):
+        return energy_and_gradient(pos, membrane.triangles, membrane.rest_inverse,
+                                   membrane.rest_area, membrane.thickness, self.coefficients)
+
+
+@dataclass(frozen=True)
+class SaintVenantKirchhoff:
+    """Compressible plane-stress law linear in the Green strain E = (C - I)/2:
+    W = Y / (2 (1 - nu^2)) [nu (tr E)^2 + (1 - nu) tr(E^2)] (Pa). Small strains, large
+    rotations: the von Karman / Hencky membrane regime. youngs_modulus Y (Pa), poisson_ratio
+    nu in [0, 0.5)."""
+
+    youngs_modulus: float
+    poisson_ratio: float
+
+    def __post_init__(self):
+        if not self.youngs_modulus > 0:
+            raise ValueError(f"youngs_modulus must be > 0 Pa, got {self.youngs_modulus}")
+        if not 0 <= self.poisson_ratio < 0.5:
+            raise ValueError(f"poisson_ratio must be in [0, 0.5), got {self.poisson_ratio}")
+
+    @property
+    def stiffness_scale(self) -> float:
+        return self.youngs_modulus
+
+    def energy_and_gradient(self, membrane: "TriangleMembrane", pos: np.ndarray):
+        return svk_energy_and_gradient(pos, membrane.triangles, membrane.rest_inverse,
+                                       membrane.rest_area, membrane.thickness,
+                                       self.youngs_modulus, self.poisson_ratio)
+
 
 @njit(**JIT)
 def energy_and_gradient(pos, triangles, rest_inverse, rest_area, thickness, coeff):
@@ -92,6 +127,43 @@ def energy_and_gradient(pos, triangles, rest_inverse, rest_area, thickness, coef
     return energy, grad
 
 
+@njit(**JIT)
+def svk_energy_and_gradient(pos, triangles, rest_inverse, rest_area, thickness, youngs, nu):
+    """Saint Venant-Kirchhoff plane-stress energy (J) and gradient (n, 3) N; arguments as
+    :func:`energy_and_gradient`, youngs (Pa), nu (-)."""
+    grad = np.zeros_like(pos)
+    energy = 0.0
+    F = np.empty((3, 2))
+    k = youngs / (1.0 - nu * nu)
+    for t in range(triangles.shape[0]):
+        a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+        for r in range(3):
+            e1 = pos[b, r] - pos[a, r]
+            e2 = pos[c, r] - pos[a, r]
+            F[r, 0] = e1 * rest_inverse[t, 0, 0] + e2 * rest_inverse[t, 1, 0]
+            F[r, 1] = e1 * rest_inverse[t, 0, 1] + e2 * rest_inverse[t, 1, 1]
+        e00 = 0.5 * (F[0, 0] ** 2 + F[1, 0] ** 2 + F[2, 0] ** 2 - 1.0)
+        e11 = 0.5 * (F[0, 1] ** 2 + F[1, 1] ** 2 + F[2, 1] ** 2 - 1.0)
+        e01 = 0.5 * (F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1] + F[2, 0] * F[2, 1])
+        tr = e00 + e11
+        scale = thickness * rest_area[t]
+        energy += scale * 0.5 * k * (nu * tr * tr + (1.0 - nu) * (e00 * e00 + e11 * e11
+                                                                   + 2.0 * e01 * e01))
+        # second Piola-Kirchhoff stress S = k [nu tr E I + (1 - nu) E]; dW/dF = F S
+        s00 = k * (nu * tr + (1.0 - nu) * e00)
+        s11 = k * (nu * tr + (1.0 - nu) * e11)
+        s01 = k * (1.0 - nu) * e01
+        for r in range(3):
+            g0 = F[r, 0] * s00 + F[r, 1] * s01
+            g1 = F[r, 0] * s01 + F[r, 1] * s11
+            gb = scale * (g0 * rest_inverse[t, 0, 0] + g1 * rest_inverse[t, 0, 1])
+            gc = scale * (g0 * rest_inverse[t, 1, 0] + g1 * rest_inverse[t, 1, 1])
+            grad[b, r] += gb
+            grad[c, r] += gc
+            grad[a, r] -= gb + gc
+    return energy, grad
+
+
 @dataclass(frozen=True)
 class TriangleMembrane:
     """Reference configuration: rest positions (n, 3) m, triangles (m, 3), thickness m; the
@@ -126,11 +198,10 @@ class TriangleMembrane:
         object.__setattr__(self, "rest_inverse", np.ascontiguousarray(inv))
         object.__setattr__(self, "rest_area", area)
 
-    def energy_and_gradient(self, pos: np.ndarray, law: HyperelasticLaw):
-        """Strain energy (J) and gradient (n, 3) N at positions ``pos`` (n, 3) m."""
-        return energy_and_gradient(np.ascontiguousarray(pos, dtype=float), self.triangles,
-                                   self.rest_inverse, self.rest_area, self.thickness,
-                                   law.coefficients)
+    def energy_and_gradient(self, pos: np.ndarray, law):
+        """Strain energy (J) and gradient (n, 3) N at positions ``pos`` (n, 3) m under
+        ``law`` (:class:`HyperelasticLaw` or :class:`SaintVenantKirchhoff`)."""
+        return law.energy_and_gradient(self, np.ascontiguousarray(pos, dtype=float))
 
 
 def icosphere(radius: float, subdivisions: int):
@@ -183,7 +254,7 @@ def equilibrium_at_volume(membrane: TriangleMembrane, law: HyperelasticLaw,
     grad W = p grad V)."""
     x = np.asarray(start, dtype=float).ravel().copy()
     n = len(membrane.rest)
-    scale_e = max(abs(law.c10) * membrane.thickness * membrane.rest_area.sum(), 1e-300)
+    scale_e = law.stiffness_scale * membrane.thickness * membrane.rest_area.sum()
     pressure = 0.0
     stiffness = 10.0 * scale_e / target_volume**2
 
@@ -207,3 +278,31 @@ def equilibrium_at_volume(membrane: TriangleMembrane, law: HyperelasticLaw,
         if abs(v - target_volume) < tolerance * target_volume:
             break
     return x.reshape(n, 3), float(pressure)
+
+
+def equilibrium_under_pressure(membrane: TriangleMembrane, law, pressure: float,
+                               fixed: np.ndarray, start: np.ndarray | None = None) -> np.ndarray:
+    """Equilibrium (n, 3) m of a membrane with nodes ``fixed`` held, loaded by a uniform
+    follower pressure ``pressure`` (Pa) on the side its triangle normals point away from:
+    minimises W(x) - p V(x), V the volume swept between the surface and its fixed rim."""
+    x0 = np.asarray(membrane.rest if start is None else start, dtype=float)
+    n = len(x0)
+    free = np.ones(n, dtype=bool)
+    free[np.asarray(fixed)] = False
+    scale_e = law.stiffness_scale * membrane.thickness * membrane.rest_area.sum()
+
+    def objective(flat):
+        pos = x0.copy()
+        pos[free] = flat.reshape(-1, 3)
+        w, gw = membrane.energy_and_gradient(pos, law)
+        if not np.isfinite(w):
+            return np.inf, np.zeros_like(flat)
+        v, gv = enclosed_volume(pos, membrane.triangles)
+        return (w - pressure * v) / scale_e, (gw - pressure * gv)[free].ravel() / scale_e
+
+    result = minimize(objective, x0[free].ravel(), jac=True, method="L-BFGS-B",
+                      options={"maxiter": 50000, "ftol": 1e-16, "gtol": 1e-13,
+                               "maxcor": 30})
+    out = x0.copy()
+    out[free] = result.x.reshape(-1, 3)
+    return out

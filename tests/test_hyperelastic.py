@@ -1,16 +1,22 @@
-"""Hyperelastic triangle membrane against the thin-sphere inflation law.
+"""Hyperelastic triangle membrane against the thin-sphere inflation law and Hencky's clamped
+membrane.
 
 Oracle: a thin sphere of radius R and wall H inflated to stretch lambda, W = W(I1) with
 I1 = 2 lambda^2 + lambda^-4, holds p = 4 (H/R) W'(I1) (lambda^-1 - lambda^-7); neo-Hookean
 (W' = mu/2): p = 2 mu (H/R) (lambda^-1 - lambda^-7), maximum at lambda = 7^(1/6)
 (Ogden, Non-Linear Elastic Deformations, 1984, Sec. 5.3; Yeoh 1993 for W(I1)).
+Hencky (1915): a clamped circular membrane (no bending) of radius a under pressure q deflects
+w0 = c a (q a / (E h))^(1/3) at the centre, c = 0.6534 for nu = 0.3 (Fichter, NASA TP-3658,
+1997).
 """
 import numpy as np
 import pytest
 
 from fsi.constants import MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS, TANK_RADIUS
-from structure.hyperelastic import (HyperelasticLaw, TriangleMembrane, enclosed_volume,
-                                    equilibrium_at_volume, icosphere)
+from structure.grid import boundary_ring, disc_grid, quad_faces, triangles_from_quads
+from structure.hyperelastic import (HyperelasticLaw, SaintVenantKirchhoff, TriangleMembrane,
+                                    enclosed_volume, equilibrium_at_volume,
+                                    equilibrium_under_pressure, icosphere)
 
 R, H = TANK_RADIUS, MEMBRANE_THICKNESS
 
@@ -32,10 +38,10 @@ def inflate(law, stretches, subdivisions=3):
     return np.array(out)
 
 
-def test_gradient_matches_finite_differences():
+@pytest.mark.parametrize("law", [HyperelasticLaw(1e6, 2e4, 3e2), SaintVenantKirchhoff(3e6, 0.3)])
+def test_gradient_matches_finite_differences(law):
     points, triangles = icosphere(R, 1)
     membrane = TriangleMembrane(points, triangles, H)
-    law = HyperelasticLaw(1e6, 2e4, 3e2)
     x = 1.3 * points + 0.01 * np.random.default_rng(1).standard_normal(points.shape)
     _, grad = membrane.energy_and_gradient(x, law)
     for node, axis in [(0, 0), (7, 1), (30, 2)]:
@@ -68,9 +74,30 @@ def test_yeoh_balloon_law():
     assert np.max(np.abs(p / exact - 1)) < 0.02
 
 
+def test_hencky_clamped_membrane():
+    a, q, n = 0.1, 68.5, 26  # w0 / a ~ 5 %: small strain, large deflection
+    points = disc_grid(n, a)
+    triangles = triangles_from_quads(quad_faces(n))
+    normal = np.cross(points[triangles[:, 1]] - points[triangles[:, 0]],
+                      points[triangles[:, 2]] - points[triangles[:, 0]])[:, 2]
+    if normal.mean() < 0:
+        triangles = triangles[:, ::-1]
+    membrane = TriangleMembrane(points, triangles, H)
+    law = SaintVenantKirchhoff(MEMBRANE_YOUNGS_MODULUS, 0.3)
+    start = points.copy()
+    start[:, 2] = 1e-3 * (1 - (np.hypot(points[:, 0], points[:, 1]) / a) ** 2)
+    x = equilibrium_under_pressure(membrane, law, q, boundary_ring(n, 0), start)
+    w0 = x[:, 2].max()
+    assert w0 == pytest.approx(0.6534 * a * (q * a / (MEMBRANE_YOUNGS_MODULUS * H)) ** (1 / 3),
+                               rel=0.03)
+    assert x[:, 2].min() >= -1e-9  # the pressure pushes along the normals
+
+
 def test_bad_law_and_thickness_are_named():
     with pytest.raises(ValueError, match="C10"):
         HyperelasticLaw(0.0)
+    with pytest.raises(ValueError, match="poisson_ratio"):
+        SaintVenantKirchhoff(1e6, 0.5)
     points, triangles = icosphere(R, 0)
     with pytest.raises(ValueError, match="thickness"):
         TriangleMembrane(points, triangles, 0.0)
