@@ -65,7 +65,9 @@ def build(scene: Scene) -> Setup:
     given = {k: v for k, v in scene["relaxation"].items() if v is not None}
     relaxation = replace(relaxation, **given,
                          constraints=replace(relaxation.constraints,
-                                             error_limit=constraints.error_limit))
+                                             error_limit=constraints.error_limit,
+                                             self_collision=constraints.self_collision,
+                                             collision_buffer=constraints.collision_buffer))
     if scene["scene"]["procedure"] == "thesis-ramp":
         h = max(abs(th["height_start"]), abs(th["height_end"])) * model.radius
         _check_dt("thesis.dt", th["dt"], courant_time_step_limit(model, liquid, h))

@@ -85,7 +85,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                      "bend-limiting passes per step (thesis BendDamping); thesis-ramp only, "
                                      "the static sweep runs without (README)"),
         "self_collision": Key(bool, False, lambda v: True, "true or false",
-                              "self-collision (thesis CollisionDetection); thesis-ramp only"),
+                              "self-collision (thesis CollisionDetection), both procedures "
+                              "(the sweep is ~8x slower with it, README)"),
         "collision_buffer": Key(float, 1.0, lambda v: 0 < v <= 1, "0 < value <= 1",
                                 "collision distance / shortest rest edge (thesis Cbuffer)"),
         "constraint_iterations": Key(int, 1, lambda v: 1 <= v <= 100, "1..100",

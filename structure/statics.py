@@ -61,7 +61,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from .kernels import (limit_bending, limit_in_plane_strain, project_volume_masked,
-                      wall_collision)
+                      self_collision, wall_collision)
 from .model import MembraneModel, MembraneState
 from .thesis import ConstraintSettings, CourantError, external_force
 from .volume import liquid_volume, liquid_volume_gradient, lower_hemisphere_volume
@@ -104,7 +104,8 @@ class RelaxationSettings:
     stiff_strain_passes : strain passes per step of that second stage.
     constraints : :class:`ConstraintSettings`: wall_slack and gauss_seidel are used in every
         step, error_limit and max_strain_passes by the finish, bend_limit_iterations only with
-        ``bend_limiting``; self-collision is not applied.
+        ``bend_limiting``, self_collision and collision_buffer (App. I after every strain
+        limiting, in the relaxation and in the finish).
     """
 
     dt: float = 2e-4
@@ -235,6 +236,7 @@ def _relax_stage(model, x, pressure, body_acceleration, s, strain_args, volume_t
             limit_bending(x, inv_mass, model.bend_chord_nodes, model.bend_rest_length,
                           model.bend_family_start, cs.bend_limit_iterations, cs.gauss_seidel)
             limit_in_plane_strain(x, *strain_args)
+        _separate(model, x, cs)
         wall_collision(x, inv_mass, model.radius, cs.wall_slack)
         ramping = False
         level_step = 0.0
@@ -298,13 +300,23 @@ def _finish(model, x, volume_target, cs: ConstraintSettings, contact_radius, nod
     y = x.copy()
     for _ in range(max_passes):
         if (strain_error(model, y)[0] <= cs.error_limit
-                and abs(liquid_volume(model, y) - volume_target) <= volume_slack):
+                and abs(liquid_volume(model, y) - volume_target) <= volume_slack
+                and not _separate(model, y.copy(), cs)):
             return y
         limit_in_plane_strain(y, *args)
+        _separate(model, y, cs)
         wall_collision(y, model.node_inv_mass, model.radius, cs.wall_slack)
         touching = np.einsum("ij,ij->i", y, y) >= contact_radius**2
         _project_volume(model, y, volume_target, touching, node_pressure, volume_args, unlimited)
     return x
+
+
+def _separate(model: MembraneModel, x: np.ndarray, cs: ConstraintSettings) -> int:
+    """App. I self-collision in place when ``cs.self_collision``; returns the pairs moved."""
+    if not cs.self_collision:
+        return 0
+    return self_collision(x, model.node_inv_mass, model.grid_size,
+                          cs.collision_buffer * model.min_rest_edge)
 
 
 def strain_error(model: MembraneModel, node_position: np.ndarray) -> tuple[float, float]:
