@@ -86,6 +86,34 @@ class SaintVenantKirchhoff:
                                        self.youngs_modulus, self.poisson_ratio)
 
 
+@njit(**JIT, inline="always")
+def _deformation(pos, a, b, c, rest_inverse, t, F):
+    """Fill F (3, 2) = [e1 e2] Dm^-1 for triangle t (vertices a, b, c); return the in-plane
+    right Cauchy-Green tensor (c00, c11, c01)."""
+    for r in range(3):
+        e1 = pos[b, r] - pos[a, r]
+        e2 = pos[c, r] - pos[a, r]
+        F[r, 0] = e1 * rest_inverse[t, 0, 0] + e2 * rest_inverse[t, 1, 0]
+        F[r, 1] = e1 * rest_inverse[t, 0, 1] + e2 * rest_inverse[t, 1, 1]
+    c00 = F[0, 0] ** 2 + F[1, 0] ** 2 + F[2, 0] ** 2
+    c11 = F[0, 1] ** 2 + F[1, 1] ** 2 + F[2, 1] ** 2
+    c01 = F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1] + F[2, 0] * F[2, 1]
+    return c00, c11, c01
+
+
+@njit(**JIT, inline="always")
+def _scatter(grad, a, b, c, F, s00, s01, s11, scale, rest_inverse, t):
+    """Add scale * dW/dx to the vertices, dW/dF = F S with S = [[s00, s01], [s01, s11]]."""
+    for r in range(3):
+        g0 = F[r, 0] * s00 + F[r, 1] * s01
+        g1 = F[r, 0] * s01 + F[r, 1] * s11
+        gb = scale * (g0 * rest_inverse[t, 0, 0] + g1 * rest_inverse[t, 0, 1])
+        gc = scale * (g0 * rest_inverse[t, 1, 0] + g1 * rest_inverse[t, 1, 1])
+        grad[b, r] += gb
+        grad[c, r] += gc
+        grad[a, r] -= gb + gc
+
+
 @njit(**JIT)
 def energy_and_gradient(pos, triangles, rest_inverse, rest_area, thickness, coeff):
     """Total strain energy (J) and its gradient (n, 3) N of the triangles.
@@ -97,14 +125,7 @@ def energy_and_gradient(pos, triangles, rest_inverse, rest_area, thickness, coef
     F = np.empty((3, 2))
     for t in range(triangles.shape[0]):
         a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
-        for r in range(3):
-            e1 = pos[b, r] - pos[a, r]
-            e2 = pos[c, r] - pos[a, r]
-            F[r, 0] = e1 * rest_inverse[t, 0, 0] + e2 * rest_inverse[t, 1, 0]
-            F[r, 1] = e1 * rest_inverse[t, 0, 1] + e2 * rest_inverse[t, 1, 1]
-        c00 = F[0, 0] ** 2 + F[1, 0] ** 2 + F[2, 0] ** 2
-        c11 = F[0, 1] ** 2 + F[1, 1] ** 2 + F[2, 1] ** 2
-        c01 = F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1] + F[2, 0] * F[2, 1]
+        c00, c11, c01 = _deformation(pos, a, b, c, rest_inverse, t, F)
         det = c00 * c11 - c01 * c01
         if det <= 0.0:
             return np.inf, grad
@@ -113,17 +134,10 @@ def energy_and_gradient(pos, triangles, rest_inverse, rest_area, thickness, coef
         dw = coeff[0] + 2.0 * coeff[1] * i1m3 + 3.0 * coeff[2] * i1m3**2
         scale = thickness * rest_area[t]
         energy += scale * w
-        # dI1/dF = 2 F - 2 F C^-1 / det C,  C^-1 = [[c11, -c01], [-c01, c00]] / det
+        # dI1/dF = F (2 I - 2 C^-1 / det C),  C^-1 = [[c11, -c01], [-c01, c00]] / det
         k = 2.0 / (det * det)
-        for r in range(3):
-            g0 = 2.0 * F[r, 0] - k * (F[r, 0] * c11 - F[r, 1] * c01)
-            g1 = 2.0 * F[r, 1] - k * (-F[r, 0] * c01 + F[r, 1] * c00)
-            # chain rule to the vertices: dF/de1 = rest_inverse row 0, dF/de2 = row 1
-            gb = scale * dw * (g0 * rest_inverse[t, 0, 0] + g1 * rest_inverse[t, 0, 1])
-            gc = scale * dw * (g0 * rest_inverse[t, 1, 0] + g1 * rest_inverse[t, 1, 1])
-            grad[b, r] += gb
-            grad[c, r] += gc
-            grad[a, r] -= gb + gc
+        _scatter(grad, a, b, c, F, dw * (2.0 - k * c11), dw * k * c01, dw * (2.0 - k * c00),
+                 scale, rest_inverse, t)
     return energy, grad
 
 
@@ -137,30 +151,15 @@ def svk_energy_and_gradient(pos, triangles, rest_inverse, rest_area, thickness, 
     k = youngs / (1.0 - nu * nu)
     for t in range(triangles.shape[0]):
         a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
-        for r in range(3):
-            e1 = pos[b, r] - pos[a, r]
-            e2 = pos[c, r] - pos[a, r]
-            F[r, 0] = e1 * rest_inverse[t, 0, 0] + e2 * rest_inverse[t, 1, 0]
-            F[r, 1] = e1 * rest_inverse[t, 0, 1] + e2 * rest_inverse[t, 1, 1]
-        e00 = 0.5 * (F[0, 0] ** 2 + F[1, 0] ** 2 + F[2, 0] ** 2 - 1.0)
-        e11 = 0.5 * (F[0, 1] ** 2 + F[1, 1] ** 2 + F[2, 1] ** 2 - 1.0)
-        e01 = 0.5 * (F[0, 0] * F[0, 1] + F[1, 0] * F[1, 1] + F[2, 0] * F[2, 1])
+        c00, c11, c01 = _deformation(pos, a, b, c, rest_inverse, t, F)
+        e00, e11, e01 = 0.5 * (c00 - 1.0), 0.5 * (c11 - 1.0), 0.5 * c01
         tr = e00 + e11
         scale = thickness * rest_area[t]
         energy += scale * 0.5 * k * (nu * tr * tr + (1.0 - nu) * (e00 * e00 + e11 * e11
                                                                    + 2.0 * e01 * e01))
         # second Piola-Kirchhoff stress S = k [nu tr E I + (1 - nu) E]; dW/dF = F S
-        s00 = k * (nu * tr + (1.0 - nu) * e00)
-        s11 = k * (nu * tr + (1.0 - nu) * e11)
-        s01 = k * (1.0 - nu) * e01
-        for r in range(3):
-            g0 = F[r, 0] * s00 + F[r, 1] * s01
-            g1 = F[r, 0] * s01 + F[r, 1] * s11
-            gb = scale * (g0 * rest_inverse[t, 0, 0] + g1 * rest_inverse[t, 0, 1])
-            gc = scale * (g0 * rest_inverse[t, 1, 0] + g1 * rest_inverse[t, 1, 1])
-            grad[b, r] += gb
-            grad[c, r] += gc
-            grad[a, r] -= gb + gc
+        _scatter(grad, a, b, c, F, k * (nu * tr + (1.0 - nu) * e00), k * (1.0 - nu) * e01,
+                 k * (nu * tr + (1.0 - nu) * e11), scale, rest_inverse, t)
     return energy, grad
 
 
