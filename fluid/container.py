@@ -65,5 +65,3 @@ class UprightCylinder:
         z = coords[-1]
         return np.maximum(r - self.radius, np.maximum(self.z_min - z, z - self.z_max))
 
-
-CONTAINERS = {"sphere": SphericalTank, "cylinder": UprightCylinder}

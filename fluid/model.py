@@ -14,7 +14,7 @@ caller supplies ``level`` (the Lagrange multiplier of the structure's volume con
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -121,6 +121,3 @@ class FluidState:
     face_velocity: np.ndarray
     pressure: np.ndarray
     geometry: Geometry
-
-    def replace(self, **changes) -> "FluidState":
-        return replace(self, **changes)

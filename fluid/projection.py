@@ -115,7 +115,6 @@ class ProjectionOperators:
         name = model.pressure_solver
         if name == "auto":
             name = pressure_solver_for(grid.n_cells, grid.axisymmetric)
-        self.pressure_solver_name = name
         self.pressure_solver = make_solver(name, model.pressure_tolerance, 2000, symmetric=True)
 
 
@@ -214,8 +213,7 @@ def viscous_face_coefficient(model: FluidModel, geometry: Geometry) -> np.ndarra
 
 
 def port_values(model: FluidModel, ops: ProjectionOperators, time: float):
-    """Reduced pressure on pressure-port faces (n_faces, NaN elsewhere) and the inward plug
-    velocity per flow port at ``time``."""
+    """Reduced pressure (Pa) on pressure-port faces at ``time``: (n_faces,), NaN elsewhere."""
     g = model.grid
     reduced = np.full(g.n_faces, np.nan)
     points = model.grid_points(g.face_centre)
