@@ -1,0 +1,249 @@
+"""Bending of a triangulated shell, calibrated to the plate rigidity D on any mesh.
+
+Model (linearised midedge / Morley shape operator; Morley 1968, Grinspun et al. 2006
+"Computing discrete shape operators on general meshes").  For a triangle T of reference area A
+with edges i = 0, 1, 2 (edge i opposite vertex i) of reference length l_i and reference in-plane
+unit edge normals m_i, the constant curvature tensor of the triangle is
+
+    H_T = sum_i  l_i (theta_i - theta0_i) / (2 A)  m_i m_i^T,
+
+theta_i the dihedral angle at edge i (the midedge normal is the mean of the two face normals,
+so the face sees half the angle) and theta0_i its reference value.  For a quadratic deflection
+of a flat mesh this is the exact Hessian whenever the midedge slope is exact (Green's theorem
+over the triangle: A H = sum_i l_i (slope excess at the edge midpoint) m_i m_i^T).  The energy
+is the Kirchhoff-Love plate energy, per triangle,
+
+    U_T = A D / 2 [(1 - nu) tr(H_T^2) + nu tr(H_T)^2]  =  1/2 d^T K_T d,
+    K_T[i, j] = D l_i l_j [(1 - nu)(m_i . m_j)^2 + nu] / (4 A),     d = theta - theta0,
+
+D = E t^3 / (12 (1 - nu^2)) (thesis Eqn 3.1).  Unlike the discrete-shell hinge energy
+sum 3 l^2 theta^2 / A_e, whose constant is right on near-equilateral meshes only (it is 3x too
+stiff on the quad-split grids of this project), K_T is built from each triangle's own shape,
+so no mesh-dependent factor needs calibrating.
+
+Boundary edges: ``clamped`` puts a fixed ghost vertex across the edge (the triangle's opposite
+vertex reflected through the edge at rest), so the edge keeps its reference slope; ``free``
+condenses the edge's angle out of K_T (the edge carries no moment).  Clamped edges are meant
+for edges whose nodes are held fixed.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+JIT = dict(cache=True, nogil=True)
+SIGN = -1.0
+
+BOUNDARY_KINDS = ("clamped", "free")
+
+
+def flap_vertices(triangles: np.ndarray) -> np.ndarray:
+    """(m, 3) int64: for triangle t and edge i (opposite vertex i), the vertex of the other
+    triangle across that edge, or -1 on a boundary edge."""
+    tri = np.asarray(triangles, dtype=np.int64)
+    flap = np.full(tri.shape, -1, dtype=np.int64)
+    owner = {}
+    for t, (p0, p1, p2) in enumerate(tri):
+        for i, (a, b) in enumerate(((p1, p2), (p2, p0), (p0, p1))):
+            key = (min(a, b), max(a, b))
+            if key in owner:
+                s, j = owner.pop(key)
+                flap[t, i] = tri[s, j]
+                flap[s, j] = tri[t, i]
+            else:
+                owner[key] = (t, i)
+    return flap
+
+
+@njit(**JIT, inline="always")
+def _dot(p, q):
+    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
+
+
+@njit(**JIT, inline="always")
+def _dihedral(xa, xb, xc, xd, grad):
+    """Signed dihedral angle (rad) at edge (a, b) between triangle (c, a, b) and its flap
+    (d, b, a), zero when flat, positive when the flap turns towards triangle (c, a, b)'s
+    normal... sign fixed by the gradient: fills grad (4, 3) with d theta / d (c, d, a, b)
+    (Bridson, Marino & Fedkiw 2003)."""
+    e = xb - xa
+    le = np.sqrt(_dot(e, e))
+    n1 = np.cross(xc - xa, xc - xb)
+    n2 = np.cross(xd - xb, xd - xa)
+    s1 = _dot(n1, n1)
+    s2 = _dot(n2, n2)
+    theta = np.arctan2(_dot(np.cross(n1, n2), e) / le, _dot(n1, n2))
+    ca = _dot(xc - xb, e) / le
+    da = _dot(xd - xb, e) / le
+    cb = _dot(xc - xa, e) / le
+    db = _dot(xd - xa, e) / le
+    for r in range(3):
+        u1 = le * n1[r] / s1
+        u2 = le * n2[r] / s2
+        grad[0, r] = SIGN * u1
+        grad[1, r] = SIGN * u2
+        grad[2, r] = SIGN * (ca * u1 + da * u2) / le
+        grad[3, r] = -SIGN * (cb * u1 + db * u2) / le
+    return theta
+
+
+@njit(**JIT, inline="always")
+def _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads):
+    """Angle changes d (3,) rad at triangle t's edges; fills nodes (3, 4) (c, d, a, b; -1 for
+    a ghost or an inactive edge) and grads (3, 4, 3) = d d_i / d x_node."""
+    delta = np.zeros(3)
+    for i in range(3):
+        c, a, b, d = (triangles[t, i], triangles[t, (i + 1) % 3], triangles[t, (i + 2) % 3],
+                      flap[t, i])
+        nodes[i, 0], nodes[i, 1], nodes[i, 2], nodes[i, 3] = c, d, a, b
+        if not active[t, i]:
+            nodes[i, :] = -1
+            grads[i, :, :] = 0.0
+            continue
+        xd = pos[d] if d >= 0 else ghost[t, i]
+        theta = _dihedral(pos[a], pos[b], pos[c], xd, grads[i])
+        change = theta - rest_angle[t, i]
+        if change > np.pi:
+            change -= 2.0 * np.pi
+        elif change < -np.pi:
+            change += 2.0 * np.pi
+        delta[i] = change
+    return delta
+
+
+@njit(**JIT)
+def _energy_and_gradient(pos, triangles, flap, ghost, active, rest_angle, stiffness):
+    grad = np.zeros_like(pos)
+    energy = 0.0
+    nodes = np.empty((3, 4), dtype=np.int64)
+    grads = np.empty((3, 4, 3))
+    for t in range(triangles.shape[0]):
+        delta = _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads)
+        for i in range(3):
+            f = 0.0
+            for j in range(3):
+                f += stiffness[t, i, j] * delta[j]
+            energy += 0.5 * delta[i] * f
+            for k in range(4):
+                if nodes[i, k] >= 0:
+                    for r in range(3):
+                        grad[nodes[i, k], r] += f * grads[i, k, r]
+    return energy, grad
+
+
+@njit(**JIT)
+def _angle_jacobian(pos, triangles, flap, ghost, active, rest_angle):
+    m = triangles.shape[0]
+    delta = np.empty((m, 3))
+    nodes = np.empty((m, 3, 4), dtype=np.int64)
+    grads = np.empty((m, 3, 4, 3))
+    for t in range(m):
+        delta[t] = _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes[t],
+                             grads[t])
+    return delta, nodes, grads
+
+
+def _rest_geometry(rest: np.ndarray, tri: np.ndarray):
+    """Edge lengths l (m, 3) m, unit in-plane edge normals (m, 3, 3) and areas (m,) m^2."""
+    x = rest[tri]                                    # (m, 3 vertices, 3)
+    edge = x[:, [2, 0, 1]] - x[:, [1, 2, 0]]         # edge i runs from vertex i+1 to i+2
+    length = np.linalg.norm(edge, axis=2)
+    normal = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    area = 0.5 * np.linalg.norm(normal, axis=1)
+    unit = normal / (2.0 * area[:, None])
+    in_plane = np.cross(edge, unit[:, None, :]) / length[:, :, None]
+    return length, in_plane, area
+
+
+@dataclass(frozen=True)
+class MidedgeBending:
+    """Bending energy of a triangulated shell (module docstring).
+
+    triangles (m, 3) int64; flap (m, 3) int64 (vertex across edge i, -1 on a boundary edge);
+    ghost (m, 3, 3) m, fixed ghost vertices of clamped boundary edges; active (m, 3) bool,
+    edges that carry an angle; rest_angle (m, 3) rad; stiffness (m, 3, 3) N m, the K_T.
+    """
+
+    triangles: np.ndarray
+    flap: np.ndarray
+    ghost: np.ndarray
+    active: np.ndarray
+    rest_angle: np.ndarray
+    stiffness: np.ndarray
+
+    @classmethod
+    def build(cls, rest: np.ndarray, triangles: np.ndarray, flexural_rigidity: float,
+              poisson_ratio: float, boundary: str = "clamped") -> "MidedgeBending":
+        """Bending of the reference shape ``rest`` (n, 3) m with plate rigidity
+        ``flexural_rigidity`` (N m) and Poisson ratio ``poisson_ratio`` (-, in [0, 0.5]);
+        ``boundary`` is one of BOUNDARY_KINDS."""
+        if boundary not in BOUNDARY_KINDS:
+            raise ValueError(f"bending boundary must be one of {BOUNDARY_KINDS}, got "
+                             f"{boundary!r}")
+        if not flexural_rigidity >= 0:
+            raise ValueError(f"flexural rigidity must be >= 0 N m, got {flexural_rigidity}")
+        if not 0.0 <= poisson_ratio <= 0.5:
+            raise ValueError(f"Poisson ratio must be in [0, 0.5], got {poisson_ratio}")
+        rest = np.ascontiguousarray(rest, dtype=float)
+        tri = np.ascontiguousarray(triangles, dtype=np.int64)
+        flap = flap_vertices(tri)
+        length, in_plane, area = _rest_geometry(rest, tri)
+        ghost = np.zeros(tri.shape + (3,))
+        for t, i in zip(*np.nonzero(flap < 0)):
+            a, b, c = rest[tri[t, (i + 1) % 3]], rest[tri[t, (i + 2) % 3]], rest[tri[t, i]]
+            e = (b - a) / np.linalg.norm(b - a)
+            ghost[t, i] = 2.0 * (a + np.dot(c - a, e) * e) - c
+        active = (flap >= 0) | (boundary == "clamped")
+        cosine = np.einsum("tir,tjr->tij", in_plane, in_plane)
+        k = (flexural_rigidity * length[:, :, None] * length[:, None, :]
+             * ((1.0 - poisson_ratio) * cosine**2 + poisson_ratio) / (4.0 * area[:, None, None]))
+        # a clamped edge's midedge normal is the clamp's own: the face sees the whole angle to
+        # its ghost, not half of it
+        scale = np.where(flap < 0, 2.0, 1.0)
+        k *= scale[:, :, None] * scale[:, None, :]
+        for t in np.nonzero(~active.all(axis=1))[0]:
+            on, off = active[t], ~active[t]
+            condensed = np.zeros((3, 3))
+            if on.any():
+                condensed[np.ix_(on, on)] = (
+                    k[t][np.ix_(on, on)] - k[t][np.ix_(on, off)]
+                    @ np.linalg.solve(k[t][np.ix_(off, off)], k[t][np.ix_(off, on)]))
+            k[t] = condensed
+        rest_angle, _, _ = _angle_jacobian(rest, tri, flap, ghost, active, np.zeros(tri.shape))
+        return cls(tri, flap, ghost, active, rest_angle, np.ascontiguousarray(k))
+
+    def energy_and_gradient(self, pos: np.ndarray):
+        """Bending energy (J) and its gradient (n, 3) N at positions ``pos`` (n, 3) m."""
+        return _energy_and_gradient(np.ascontiguousarray(pos, dtype=float), self.triangles,
+                                    self.flap, self.ghost, self.active, self.rest_angle,
+                                    self.stiffness)
+
+    def angle_jacobian(self, pos: np.ndarray):
+        """Angle changes (m, 3) rad, the nodes they depend on (m, 3, 4) int64 (-1: ghost or
+        inactive) and their gradients (m, 3, 4, 3) 1/m."""
+        return _angle_jacobian(np.ascontiguousarray(pos, dtype=float), self.triangles,
+                               self.flap, self.ghost, self.active, self.rest_angle)
+
+    def stiffness_matrix(self, pos: np.ndarray):
+        """Gauss-Newton stiffness sum_T J_T^T K_T J_T, (3n, 3n) sparse N/m: the exact Hessian
+        where every angle equals its reference value (e.g. a flat plate at rest)."""
+        from scipy.sparse import coo_matrix
+
+        n = len(pos)
+        _, nodes, grads = self.angle_jacobian(pos)
+        m = len(nodes)
+        valid = (nodes >= 0)[..., None]
+        dof = np.where(valid, 3 * nodes[..., None] + np.arange(3), 0).reshape(m, 3, 12)
+        jac = np.where(valid, grads, 0.0).reshape(m, 3, 12)
+        rows, cols, vals = [], [], []
+        for i in range(3):
+            for j in range(3):
+                kij = (self.stiffness[:, i, j, None, None] * jac[:, i, :, None]
+                       * jac[:, j, None, :])
+                rows.append(np.broadcast_to(dof[:, i, :, None], kij.shape).ravel())
+                cols.append(np.broadcast_to(dof[:, j, None, :], kij.shape).ravel())
+                vals.append(kij.ravel())
+        return coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                          shape=(3 * n, 3 * n)).tocsr()
