@@ -55,7 +55,7 @@ converged fields (``extrapolation_order = 2``), one set of acceleration settings
 
 Order: **solid first, fluid second, pressure accelerated**, unlike the tutorial (fluid first,
 cross-section accelerated; :func:`precice_tutorial_settings`, which this code runs too and
-which needs 8.7 iterations per window here against preCICE's 8.57). On the cross-section the
+which needs 8.39 iterations per window here against preCICE's 8.57). On the cross-section the
 interface map is strongly nonlinear: the first fluid solve of a window, with a predicted
 cross-section, returns a pressure that is several times the converged one, where the tube law
 is far from linear, so even an exact interface Newton needs 4.78 iterations per window on the
@@ -67,16 +67,39 @@ the fluid equations, Jacobian by the chain rule), to |F| / |(v, p)| <= 1e-13 per
 
 Goal and what limits it
 -----------------------
-The goal (IQN-ILS <= 4.0 iterations per window) is not reached: the best found is 5.26 (a
-sweep of reuse 8..30 windows, QR2 filter 1e-4..3e-2, 20..200 columns and initial relaxation
-0.01..0.5 gave 5.2..6.2; without extrapolation 6.1). At t = 0.2 s the interface Jacobian has
-eigenvalues down to about -120 (30 of them beyond 0.1 in modulus); it changes by about 3 % per
-window, so information reused from past windows is stale: a chord method with the *exact*
-interface Jacobian of the previous window already needs 3.99 iterations per window (exact
-Newton 3.0), and IQN-ILS only approximates that Jacobian from a few secants per window.
-preCICE's 3.9 (tutorial's C++ fluid) is for a different discretisation: that fluid used
-dx = 0.001 and alpha = 50 instead of dx = 0.1 and alpha = 0 (precice/tutorials issue #195), and
-its results differ from the Python fluid's.
+Iterations are counted as preCICE counts them: every iteration of a window, the one in which
+convergence is detected included (relative measure |x_tilde - x| / |x_tilde| of that
+iteration, per field, all must hold). As preCICE, IQN-ILS keeps for reuse the secant of the
+iteration in which a window converged (``Acceleration.converged``); before that it was dropped
+and IQN-ILS needed 5.26 iterations per window, now 5.11 (IQN-IMVJ 6.45, now 6.27; tutorial
+setup 8.73, now 8.39).
+
+The goal (IQN-ILS <= 4.0 iterations per window) is not reached: the best found is 5.11 (reuse
+8..30 windows with QR2 filter 1e-3 or 1e-2 give 5.11..5.37 now; before the fix a sweep of reuse
+8..30, filter 1e-4..3e-2, 20..200 columns and initial relaxation 0.01..0.5 gave 5.2..6.2, without
+extrapolation 6.1). The extrapolated pressure of a window is 5 % off the converged one
+(third-order Lagrange extrapolation: 1 %), and the interface Jacobian (eigenvalues down to about
+-120 at t = 0.2 s, 30 of them beyond 0.1 in modulus) turns that into a first residual of the
+order of the pressure itself; the relative measure on the pressure residual then asks for the
+pressure to about 1e-7. The Jacobian changes by about 3 % per window, so information reused from
+past windows is stale: with the *exact* interface Jacobian of the previous window (converged
+state), as a chord or with this window's secants added as IQN-IMVJ does, 3.88 iterations per
+window are needed after the first window, 4.0 with it (exact Newton 3.0), while IQN-ILS starts
+without history and needs 17 iterations in the first window. IQN-ILS's first step of a window is
+about as good as that chord (3 % off the Newton step), its later steps 10-20 % off, because the
+20-25 columns that survive the filter come from up to 20 windows (a period of the inflow) back.
+Tried without gain (measured means): a better predictor (Lagrange extrapolation of orders 2, 3,
+4: 5.34, 5.35, 5.20 before the fix; orders 3, 4 after it, over reuse 10..40 and filter
+1e-3..3e-2: 5.02..5.71), relaxing the part of the residual outside the secant span (omega
+0.5..0.003: 5.9..13), a linear or quadratic drift-in-time model of the reused secants
+(5.6..17.8), IQN-ILS's reuse matrix as the base of in-window multi-vector updates (5.3..5.8,
+extrapolated in time 6.0..7.4; these before the fix), parallel-implicit coupling (fails in
+window 4). Extrapolating the *exact* Jacobian in time (linear 3.42, quadratic 3.0 after the first
+windows) shows what would be needed: a Jacobian good to well under 1 % in the current window,
+which a few secants per window from up to a period back cannot supply. preCICE's 3.9
+(tutorial's C++ fluid) is for a different discretisation: that fluid used dx = 0.001 and
+alpha = 50 instead of dx = 0.1 and alpha = 0 (precice/tutorials issue #195), and its results
+differ from the Python fluid's.
 """
 from __future__ import annotations
 

@@ -11,7 +11,9 @@ vector (the accelerated fields concatenated, each scaled by the scheme).
 * ``iqn-ils``: interface quasi-Newton with inverse Jacobian from a least-squares model
   (Degroote, Bathe & Vierendeels 2009): with V = [dr_i], W = [dx_tilde_i] (differences between
   consecutive iterations, newest first, plus ``reuse`` past windows), solve min |V a + r| by QR
-  and set x+ = x_tilde + W a. Columns whose QR diagonal falls below ``filter_limit`` times their
+  and set x+ = x_tilde + W a. The secant of the iteration in which the window converged is
+  added too (``converged``, as preCICE's ``iterationsConverged``), so reused windows keep their
+  newest, most local secant. Columns whose QR diagonal falls below ``filter_limit`` times their
   norm are dropped (QR2 filter, Haelterman et al. 2016). The first iteration of the first window
   (or when no column is left) is a constant relaxation with ``initial_relaxation``.
 * ``iqn-imvj``: multi-vector quasi-Newton (Lindner, Mehl, Neumann & Uekermann 2015): the same
@@ -68,6 +70,11 @@ class Acceleration:
 
     def start_window(self) -> None:
         """Called before the first iteration of a window."""
+
+    def converged(self, x: np.ndarray, x_tilde: np.ndarray) -> None:
+        """Called, before :meth:`end_window`, with the input and output of the iteration in
+        which the window converged (no update follows); not called when it converges in its
+        first iteration."""
 
     def end_window(self) -> None:
         """Called when a window has converged (or been accepted)."""
@@ -128,6 +135,9 @@ class IQNILS(Acceleration):
         if self.s.reuse > 0 and self.window_v:
             self.past.insert(0, (self.window_v, self.window_w))
             del self.past[self.s.reuse:]
+
+    def converged(self, x, x_tilde):
+        self._record_secant(x, x_tilde)  # kept for reuse (preCICE does the same)
 
     def _record_secant(self, x, x_tilde) -> np.ndarray:
         """Add this iteration's differences to the window's columns; returns r = x_tilde - x."""

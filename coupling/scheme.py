@@ -10,7 +10,9 @@ Two participants, ``first`` and ``second`` (see :mod:`coupling.participant`). Pe
 * ``implicit-parallel`` (Jacobi): both solve with the other's previous iterate; the fixed point is
   over both participants' fields together.
 
-Convergence is measured per field on the change over one iteration (:mod:`coupling.convergence`);
+Convergence is measured per field on the change over one iteration (:mod:`coupling.convergence`),
+every iteration counted, the one in which convergence is detected included; that iteration's
+input and output go to the acceleration's ``converged`` (quasi-Newton secants for reuse);
 the accelerated vector is each accelerated field scaled by its norm at the window's first
 iteration (so fields of different units weigh alike in the quasi-Newton least squares).
 On reaching ``max_iterations`` without convergence the scheme raises :class:`CouplingError`
@@ -229,6 +231,8 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         window.iterations = it
         if window_converged(settings.measures, residuals):
             window.converged = True
+            if packer is not None:
+                acceleration.converged(packer.pack(x), packer.pack(x_tilde))
             window.relaxation.append(float("nan"))
             break
         if packer is None:

@@ -102,6 +102,23 @@ def test_iqn_ils_solves_affine_map_after_n_plus_1_evaluations(n):
     assert log.windows[0].residuals[n]["p"] > 1e-9  # and not before: exactly n + 2
 
 
+def test_iqn_ils_keeps_the_secant_of_the_converged_iteration_for_reuse():
+    # as preCICE's iterationsConverged: the last (x, x_tilde) of a window, for which no update
+    # is asked, still gives a secant column to the reused windows
+    acc = ACCELERATIONS["iqn-ils"](AccelerationSettings(reuse=1))
+    rng = np.random.default_rng(0)
+    xs, xts = rng.normal(size=(3, 4)), rng.normal(size=(3, 4))
+    acc.start_window()
+    acc.update(xs[0], xts[0])
+    acc.update(xs[1], xts[1])
+    acc.converged(xs[2], xts[2])
+    acc.end_window()
+    v_cols, w_cols = acc.past[0]
+    assert len(v_cols) == len(w_cols) == 2
+    r = xts - xs
+    assert np.allclose(v_cols[0], r[2] - r[1]) and np.allclose(w_cols[0], xts[2] - xts[1])
+
+
 def test_constant_relaxation_diverges_on_the_non_contractive_map():
     s, f = _pair(n=6, gain=1.5, seed=3)
     settings = _settings("implicit-serial", "constant")
