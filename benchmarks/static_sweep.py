@@ -41,7 +41,8 @@ def main() -> dict:
     # warm-up: compile every kernel on a small grid (its convergence warnings are not the point)
     logging.getLogger("fsi").setLevel(logging.ERROR)
     for proc in ("volume-sweep", "thesis-ramp"):
-        warm = parse_scene(f"[scene]\nprocedure = '{proc}'\n[membrane]\ngrid_size = 6\n"
+        warm = parse_scene(f"[scene]\nprocedure = '{proc}'\n[structure]\nmodel = 'thesis'\n"
+                           "[membrane]\ngrid_size = 6\n"
                            "[sweep]\nfills = [0.0, 0.5]\ndrain = false\n"
                            "[thesis]\nend_time = 0.01\nframe_interval = 10\n")
         _timed(build(warm))

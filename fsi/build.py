@@ -19,6 +19,7 @@ from structure.model import Material, MembraneModel, hemisphere_model
 from structure.statics import RelaxationSettings
 from structure.thesis import ConstraintSettings, ThesisSettings
 
+from .models import choose_model
 from .scene import Scene, SceneError
 
 
@@ -32,6 +33,7 @@ class Setup:
     constraints: ConstraintSettings
     relaxation: RelaxationSettings
     thesis: ThesisSettings
+    structure_model: str = "thesis"
 
 
 def courant_time_step_limit(model: MembraneModel, liquid: HydrostaticLiquid,
@@ -50,7 +52,7 @@ def courant_time_step_limit(model: MembraneModel, liquid: HydrostaticLiquid,
 def build(scene: Scene) -> Setup:
     """Build the :class:`Setup` of ``scene``; raises :class:`SceneError` on a bad time step."""
     m, c = scene["membrane"], scene["constraints"]
-    material = Material(m["thickness"], m["density"], m["youngs_modulus"])
+    material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"])
     model = hemisphere_model(m["grid_size"], scene["tank"]["radius"], material, m["support"])
     liquid = HydrostaticLiquid(scene["liquid"]["density"],
                                tuple(scene["liquid"]["body_acceleration"]))
@@ -74,7 +76,10 @@ def build(scene: Scene) -> Setup:
     else:
         _check_dt("relaxation.dt", relaxation.dt,
                   courant_time_step_limit(model, liquid, model.radius))
-    return Setup(scene, model, liquid, constraints, relaxation, thesis)
+    structure = scene["structure"]
+    chosen = ("thesis" if scene["scene"]["procedure"] == "thesis-ramp"
+              else choose_model(structure["model"], model.grid_size, structure["accuracy"]))
+    return Setup(scene, model, liquid, constraints, relaxation, thesis, chosen)
 
 
 def _check_dt(key: str, dt: float, limit: float) -> None:

@@ -14,12 +14,13 @@ from typing import Callable
 import numpy as np
 
 from structure.model import MembraneState
-from structure.statics import solve_equilibrium, strain_error
+from structure.statics import strain_error
 from structure.thesis import ThesisState, step
 from structure.volume import FillScale, liquid_volume
 
 from .build import Setup
 from .fill import FullInversion, full_inversion
+from .models import STRUCTURE_MODELS
 
 log = logging.getLogger(__name__)
 
@@ -91,17 +92,21 @@ def volume_sweep(setup: Setup, progress: Progress) -> RunResult:
     done = 0
     state = MembraneState(setup.model.node_rest_position)
     result = _new_result(setup, full)
+    result.attrs["structure_model"] = setup.structure_model
+    model = STRUCTURE_MODELS[setup.structure_model]
+    data = model.prepare(setup)
+    level = 0.0
     for group, leg in legs:
         records = []
         for fill in leg:
             t0 = time.perf_counter()
-            state, info = solve_equilibrium(
-                setup.model, state, setup.liquid.pressure, setup.liquid.body_acceleration,
-                setup.relaxation, volume_target=float(scale.volume(fill)))
+            state, info = model.solve(data, setup, state, float(scale.volume(fill)), level)
+            if np.isfinite(info.pressure_level):
+                level = info.pressure_level
             seconds = time.perf_counter() - t0
             if not info.converged:
-                log.warning("%s fill %.3f: not converged after %d steps (move ratio %.2e)",
-                            group, fill, info.steps, info.move_ratio)
+                log.warning("%s fill %.3f: %s model not converged after %d steps", group, fill,
+                            setup.structure_model, info.steps)
             records.append(_frame_record(setup, scale, state.node_position, info.pressure_level,
                                          fill, seconds, info.steps, info.converged))
             done += 1

@@ -67,9 +67,23 @@ SCHEMA: dict[str, dict[str, Key]] = {
                        "membrane density (kg/m^3)"),
         "youngs_modulus": Key(float, constants.MEMBRANE_YOUNGS_MODULUS, _pos, "> 0 Pa",
                               "Young's modulus (Pa)"),
+        "poisson_ratio": Key(float, 0.5, lambda v: 0 <= v <= 0.5, "0..0.5",
+                             "Poisson ratio (xpbd and shell models; rubber 0.5)"),
         "support": Key(str, "clamped", lambda v: v in ("clamped", "simply-supported"),
                        "'clamped' or 'simply-supported'",
                        "rim support: two fixed rings (clamped) or one (simply supported)"),
+    },
+    "structure": {
+        "model": Key(str, "auto", lambda v: v in ("auto", "thesis", "xpbd", "shell"),
+                     "'auto', 'thesis', 'xpbd' or 'shell'",
+                     "membrane model of a volume sweep (README, 'Choosing a structure model'); "
+                     "auto: the cheapest meeting structure.accuracy"),
+        "accuracy": Key(float, 15.0, lambda v: 0 < v <= 100, "0 < value <= 100 (%)",
+                        "Eqn 6.1 error the scene accepts, for model = 'auto' (%)"),
+        "shell_law": Key(str, "saint-venant-kirchhoff",
+                         lambda v: v in ("saint-venant-kirchhoff", "neo-hookean"),
+                         "'saint-venant-kirchhoff' or 'neo-hookean'",
+                         "membrane law of the shell model"),
     },
     "liquid": {
         "density": Key(float, constants.WATER_DENSITY, _pos, "> 0 kg/m^3",
@@ -190,6 +204,11 @@ def _check_cross(values: dict) -> None:
     if steps > 5e7:
         raise SceneError(f"scene key 'thesis.dt' = {th['dt']!r}: end_time/dt = {steps:.3g} steps; "
                          f"allowed at most 5e7")
+    if (values["scene"]["procedure"] == "thesis-ramp"
+            and values["structure"]["model"] not in ("auto", "thesis")):
+        raise SceneError(f"scene key 'structure.model' = {values['structure']['model']!r}: the "
+                         f"thesis-ramp procedure runs the thesis model only; allowed 'auto' or "
+                         f"'thesis'")
     if values["scene"]["procedure"] == "volume-sweep" and len(values["sweep"]["fills"]) < 1:
         raise SceneError("scene key 'sweep.fills' is empty; allowed: at least one fill in [0, 1]")
 

@@ -58,42 +58,53 @@ def flap_vertices(triangles: np.ndarray) -> np.ndarray:
 
 
 @njit(**JIT, inline="always")
-def _dot(p, q):
-    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
-
-
-@njit(**JIT, inline="always")
-def _dihedral(xa, xb, xc, xd, grad):
+def _dihedral(pos, ghost_point, a, b, c, d, grad):
     """Signed dihedral angle (rad) at edge (a, b) between triangle (c, a, b) and its flap
-    (d, b, a), zero when flat, positive when the flap turns towards triangle (c, a, b)'s
-    normal... sign fixed by the gradient: fills grad (4, 3) with d theta / d (c, d, a, b)
-    (Bridson, Marino & Fedkiw 2003)."""
-    e = xb - xa
-    le = np.sqrt(_dot(e, e))
-    n1 = np.cross(xc - xa, xc - xb)
-    n2 = np.cross(xd - xb, xd - xa)
-    s1 = _dot(n1, n1)
-    s2 = _dot(n2, n2)
-    theta = np.arctan2(_dot(np.cross(n1, n2), e) / le, _dot(n1, n2))
-    ca = _dot(xc - xb, e) / le
-    da = _dot(xd - xb, e) / le
-    cb = _dot(xc - xa, e) / le
-    db = _dot(xd - xa, e) / le
-    for r in range(3):
-        u1 = le * n1[r] / s1
-        u2 = le * n2[r] / s2
-        grad[0, r] = SIGN * u1
-        grad[1, r] = SIGN * u2
-        grad[2, r] = SIGN * (ca * u1 + da * u2) / le
-        grad[3, r] = -SIGN * (cb * u1 + db * u2) / le
+    (d, b, a) (d < 0: the point ``ghost_point``), zero when flat; fills grad (4, 3) with
+    d theta / d (c, d, a, b) (Bridson, Marino & Fedkiw 2003, with this angle's sign)."""
+    ax, ay, az = pos[a, 0], pos[a, 1], pos[a, 2]
+    bx, by, bz = pos[b, 0], pos[b, 1], pos[b, 2]
+    cx, cy, cz = pos[c, 0], pos[c, 1], pos[c, 2]
+    if d >= 0:
+        dx, dy, dz = pos[d, 0], pos[d, 1], pos[d, 2]
+    else:
+        dx, dy, dz = ghost_point[0], ghost_point[1], ghost_point[2]
+    ex, ey, ez = bx - ax, by - ay, bz - az
+    le = np.sqrt(ex * ex + ey * ey + ez * ez)
+    # n1 = (c - a) x (c - b), n2 = (d - b) x (d - a)
+    p1x, p1y, p1z = cx - ax, cy - ay, cz - az
+    q1x, q1y, q1z = cx - bx, cy - by, cz - bz
+    n1x, n1y, n1z = p1y * q1z - p1z * q1y, p1z * q1x - p1x * q1z, p1x * q1y - p1y * q1x
+    p2x, p2y, p2z = dx - bx, dy - by, dz - bz
+    q2x, q2y, q2z = dx - ax, dy - ay, dz - az
+    n2x, n2y, n2z = p2y * q2z - p2z * q2y, p2z * q2x - p2x * q2z, p2x * q2y - p2y * q2x
+    s1 = n1x * n1x + n1y * n1y + n1z * n1z
+    s2 = n2x * n2x + n2y * n2y + n2z * n2z
+    crx, cry, crz = n1y * n2z - n1z * n2y, n1z * n2x - n1x * n2z, n1x * n2y - n1y * n2x
+    theta = np.arctan2((crx * ex + cry * ey + crz * ez) / le,
+                       n1x * n2x + n1y * n2y + n1z * n2z)
+    ca = (q1x * ex + q1y * ey + q1z * ez) / le
+    da = (p2x * ex + p2y * ey + p2z * ez) / le
+    cb = (p1x * ex + p1y * ey + p1z * ez) / le
+    db = (q2x * ex + q2y * ey + q2z * ez) / le
+    k1, k2 = SIGN * le / s1, SIGN * le / s2
+    u1x, u1y, u1z = k1 * n1x, k1 * n1y, k1 * n1z
+    u2x, u2y, u2z = k2 * n2x, k2 * n2y, k2 * n2z
+    grad[0, 0], grad[0, 1], grad[0, 2] = u1x, u1y, u1z
+    grad[1, 0], grad[1, 1], grad[1, 2] = u2x, u2y, u2z
+    grad[2, 0] = (ca * u1x + da * u2x) / le
+    grad[2, 1] = (ca * u1y + da * u2y) / le
+    grad[2, 2] = (ca * u1z + da * u2z) / le
+    grad[3, 0] = -(cb * u1x + db * u2x) / le
+    grad[3, 1] = -(cb * u1y + db * u2y) / le
+    grad[3, 2] = -(cb * u1z + db * u2z) / le
     return theta
 
 
 @njit(**JIT, inline="always")
-def _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads):
-    """Angle changes d (3,) rad at triangle t's edges; fills nodes (3, 4) (c, d, a, b; -1 for
-    a ghost or an inactive edge) and grads (3, 4, 3) = d d_i / d x_node."""
-    delta = np.zeros(3)
+def _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads, delta):
+    """Fills delta (3,) with the angle changes (rad) at triangle t's edges, nodes (3, 4)
+    (c, d, a, b; -1 for a ghost or an inactive edge) and grads (3, 4, 3) = d delta_i / d x."""
     for i in range(3):
         c, a, b, d = (triangles[t, i], triangles[t, (i + 1) % 3], triangles[t, (i + 2) % 3],
                       flap[t, i])
@@ -101,16 +112,15 @@ def _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads):
         if not active[t, i]:
             nodes[i, :] = -1
             grads[i, :, :] = 0.0
+            delta[i] = 0.0
             continue
-        xd = pos[d] if d >= 0 else ghost[t, i]
-        theta = _dihedral(pos[a], pos[b], pos[c], xd, grads[i])
+        theta = _dihedral(pos, ghost[t, i], a, b, c, d, grads[i])
         change = theta - rest_angle[t, i]
         if change > np.pi:
             change -= 2.0 * np.pi
         elif change < -np.pi:
             change += 2.0 * np.pi
         delta[i] = change
-    return delta
 
 
 @njit(**JIT)
@@ -119,8 +129,9 @@ def _energy_and_gradient(pos, triangles, flap, ghost, active, rest_angle, stiffn
     energy = 0.0
     nodes = np.empty((3, 4), dtype=np.int64)
     grads = np.empty((3, 4, 3))
+    delta = np.empty(3)
     for t in range(triangles.shape[0]):
-        delta = _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads)
+        _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads, delta)
         for i in range(3):
             f = 0.0
             for j in range(3):
@@ -140,8 +151,8 @@ def _angle_jacobian(pos, triangles, flap, ghost, active, rest_angle):
     nodes = np.empty((m, 3, 4), dtype=np.int64)
     grads = np.empty((m, 3, 4, 3))
     for t in range(m):
-        delta[t] = _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes[t],
-                             grads[t])
+        _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes[t], grads[t],
+                  delta[t])
     return delta, nodes, grads
 
 

@@ -306,11 +306,11 @@ def _sweep(model: XpbdModel, x, lam: XpbdMultipliers, settings: XpbdSettings, ta
         b = model.bending
         _bending_sweep(x, base.node_inv_mass, b.triangles, b.flap, b.ghost, b.active,
                        b.rest_angle, model.bending_compliance, lam.bending, inv_dt2, apply_only)
-    if target is not None:
-        _volume(x, base.node_inv_mass, base.face_nodes, base.volume_sign,
-                lower_hemisphere_volume(base.radius), target, lam.volume, apply_only)
     if not apply_only:
         wall_collision(x, base.node_inv_mass, base.radius, 1.0)
+    if target is not None:  # last, so that each substep ends on the volume
+        _volume(x, base.node_inv_mass, base.face_nodes, base.volume_sign,
+                lower_hemisphere_volume(base.radius), target, lam.volume, apply_only)
 
 
 def external_force(model: XpbdModel, x: np.ndarray, node_pressure: np.ndarray,

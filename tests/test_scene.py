@@ -9,7 +9,9 @@ def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
     assert {"thesis-static", "thesis-ramp"} <= set(bundled_scenes())
     s = load_scene("thesis-static")
     assert s["membrane"] == dict(grid_size=26, thickness=0.001778, density=1070.0,
-                                 youngs_modulus=8.6e6, support="clamped")
+                                 youngs_modulus=8.6e6, poisson_ratio=0.5,
+                                 support="clamped")
+    assert s["structure"]["model"] == "thesis"
     assert s["tank"]["radius"] == 0.20955
     assert s["liquid"]["body_acceleration"] == [0.0, 0.0, -9.81]
     assert s["constraints"]["error_limit"] == 1.0
@@ -57,3 +59,14 @@ def test_every_schema_default_passes_its_own_check():
 def test_missing_scene_file_raises(tmp_path):
     with pytest.raises(SceneError, match="not found"):
         load_scene(str(tmp_path / "nope.toml"))
+
+
+def test_structure_model_key():
+    scene = parse_scene("[structure]\nmodel = 'xpbd'\n[membrane]\ngrid_size = 6")
+    assert build(scene).structure_model == "xpbd"
+    with pytest.raises(SceneError, match="structure.model.*thesis-ramp"):
+        parse_scene("[scene]\nprocedure = 'thesis-ramp'\n[structure]\nmodel = 'shell'")
+    with pytest.raises(SceneError, match="structure.model"):
+        parse_scene("[structure]\nmodel = 'ansys'")
+    assert build(parse_scene("[scene]\nprocedure = 'thesis-ramp'\n[membrane]\ngrid_size = 6")
+                 ).structure_model == "thesis"

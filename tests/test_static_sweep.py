@@ -46,7 +46,8 @@ def test_full_fill_is_inverted_and_reported_against_the_mirror(sweep):
 
 
 def test_simply_supported_rim_inverts_to_the_mirror_image():
-    scene = parse_scene("[membrane]\ngrid_size = 10\nsupport = 'simply-supported'\n"
+    scene = parse_scene("[structure]\nmodel = 'thesis'\n"
+                        "[membrane]\ngrid_size = 10\nsupport = 'simply-supported'\n"
                         "[sweep]\nfills = [0.0]\ndrain = false\n")
     from fsi.fill import full_inversion
     full = full_inversion(build(scene))
@@ -55,7 +56,8 @@ def test_simply_supported_rim_inverts_to_the_mirror_image():
 
 
 def test_same_sweep_twice_gives_identical_arrays():
-    scene = parse_scene("[membrane]\ngrid_size = 10\n[sweep]\nfills = [0.0, 0.3, 0.6]\n")
+    scene = parse_scene("[structure]\nmodel = 'thesis'\n"
+                        "[membrane]\ngrid_size = 10\n[sweep]\nfills = [0.0, 0.3, 0.6]\n")
     runs = [PROCEDURES["volume-sweep"](build(scene), lambda f, m: None) for _ in range(2)]
     for group in ("frames", "drain", "full_inversion"):
         for key in ("node_position", "liquid_volume"):

@@ -1,0 +1,345 @@
+"""Grid locking map of the thesis particle membrane: strain limit x grid size.
+
+    python benchmarks/grid_locking.py [--grids 14 20 26 38] [--limits 0.5 1 2 5]
+                                      [--end-time 0.5] [--hold 0.5] [--dt 1e-4]
+                                      [--no-check] [--extra-check N LIMIT FACTOR]
+
+Levine (2014) Sec. 4.2.5 (thesis text lines 4613-4629): "for low resolution grids a phenomenon
+called "grid locking" can occur in which the bent elements cannot deform enough to invert,
+causing the grid to lock into place, artificially stopping the solution. Allowable strain
+levels less than 2% were observed to be particularly susceptible to grid locking." This
+benchmark measures exactly that: whether the thesis stepper (:func:`structure.thesis.step`,
+explicit Euler, App. G strain limiting with the thesis's ErrorLimit, App. H bend limiting, fixed two-ring rim, courant-drag damping, as the
+bundled ``thesis-ramp`` scene) stops before the membrane has inverted.
+
+For each grid size N and strain limit (ErrorLimit, %), the thesis-ramp scene at that N and limit
+is run as :func:`fsi.procedures.thesis_ramp` runs it (equivalent fluid height ramped linearly
+from -1.05 R to +1.05 R, the height updated before each step), over ``--end-time`` seconds
+instead of the thesis's 5 s, then held at +1.05 R for up to ``--hold`` seconds until the
+membrane has stopped (the liquid volume changes by less than SETTLE_TOL of the mirrored volume
+over SETTLE_WINDOW s). The hold separates locking (the solution stops) from lag (the ramp was
+too fast for the membrane to follow). The full-inversion static solve that ``thesis_ramp`` also
+makes is skipped: the fill here is on the geometric scale, not on the project's fill scale.
+
+Measured per point:
+- inverted_fraction (-): fill on the geometric scale :meth:`structure.volume.FillScale.mirrored`,
+  (V - V_rest) / (V_mirrored - V_rest), V the liquid volume (m^3) at the end of the hold
+  (``ramp_end_fraction``: the same at the end of the ramp). 1 = the rest shape mirrored through
+  the equator. The clamped band (second fixed ring, a cell below the equator) cannot invert, so
+  even a converged inversion holds less: ``static_cap`` is the fill of the fully inverted static
+  equilibrium (:func:`fsi.fill.full_inversion`, independent of the limit), one per grid.
+- strain_mean (-): Sum |L - L0| / Sum L0 over the in-plane springs at the end (the thesis's
+  error, measured after all constraints); strain_max (-): largest single spring |L - L0| / L0.
+- seconds (s): wall time of the point (ramp + hold, compiled kernels).
+- status: ``inverted``, ``locked`` (see LOCK_RATIO), ``courant-error`` (the stepper raised
+  :class:`structure.thesis.CourantError`: a failed point, fraction at the last good step).
+
+Locked: a point is locked when, at the end, it holds less than LOCK_RATIO of what the
+reference point reaches, the reference being the finest grid at the loosest limit, after both are
+divided by their grid's static cap (so the unavoidable clamped band, which shrinks as 1/N, does
+not count as locking): locked <=> (f / cap_N) < LOCK_RATIO * (f_ref / cap_ref). Measured with
+the defaults, every point that inverts reaches >= 0.88 of the reference and every locked point
+<= 0.73 of it (most < 0.5); 0.8 sits in that gap.
+
+Quasi-static check: every point is run again at twice the ramp time (columns ``fraction_2x``,
+``status_2x``, ``quasi_static`` = the two fills within QS_TOL); ``--no-check`` skips it.
+``--extra-check N LIMIT FACTOR`` (default 26 1 4) runs single points at FACTOR x the ramp time
+(``grid_locking_check.csv``). The ramp-up is not dynamics in the physical sense: with the
+thesis's SteadyState the velocity is never corrected for the constraint moves, so the reported
+node speeds (10-30 m/s) are an integrated force, not motion; what matters is whether the end
+state depends on the ramp time.
+
+Writes ``benchmarks/output/grid_locking.csv`` (one row per N x limit: grid_size, error_limit,
+inverted_fraction, strain_mean, seconds, status, then the columns above), ``grid_locking.png``
+(map of inverted fraction over limit and N, locked and failed points marked, both ramp times)
+and ``grid_locking_check.csv``; prints progress to stderr and one JSON object to stdout.
+Whole default run: about 8.5 min on 2 cores (N = 38 at 0.5 % is 40 % of it).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import logging
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from fsi.build import build
+from fsi.fill import full_inversion
+from fsi.scene import SceneError, parse_scene
+from structure.statics import strain_error
+from structure.thesis import CourantError, ThesisState, step
+from structure.volume import FillScale, liquid_volume
+
+OUTPUT = Path(__file__).resolve().parent / "output"
+LOCK_RATIO = 0.8
+"""Locked below this fraction of the reference's cap-normalised fill (see module docstring)."""
+SETTLE_WINDOW = 0.05
+"""s: the hold stops when the volume moved less than SETTLE_TOL over this window."""
+SETTLE_TOL = 1e-4
+"""Volume change over SETTLE_WINDOW, as a fraction of V_mirrored - V_rest, that counts as
+stopped."""
+QS_TOL = 0.05
+"""A point is quasi-static when the run at twice the ramp time ends within this fill (-)."""
+
+
+def scene_for(grid_size: int, error_limit: float, end_time: float, dt: float):
+    """The bundled thesis-ramp scene at another grid size, strain limit (%), ramp time (s), dt."""
+    return build(parse_scene(
+        f"[scene]\nprocedure = 'thesis-ramp'\n[membrane]\ngrid_size = {grid_size}\n"
+        f"[constraints]\nerror_limit = {error_limit!r}\nbend_limit_iterations = 10\n"
+        f"[thesis]\ndt = {dt!r}\nend_time = {end_time!r}\n"))
+
+
+def static_cap(grid_size: int) -> float:
+    """Fill (geometric scale) of the fully inverted static equilibrium at N (limit 1 %)."""
+    setup = build(parse_scene(f"[scene]\nprocedure = 'volume-sweep'\n[membrane]\n"
+                              f"grid_size = {grid_size}\n"))
+    full = full_inversion(setup)
+    return float(FillScale.mirrored(setup.model).fill(full.info.liquid_volume))
+
+
+def run_point(grid_size: int, error_limit: float, end_time: float, hold: float,
+              dt: float) -> dict:
+    """Ramp (as thesis_ramp) then hold at the final height until stopped; see module docstring."""
+    try:
+        setup = scene_for(grid_size, error_limit, end_time, dt)
+    except SceneError as exc:  # dt above the a-priori Courant limit (fsi.build)
+        return {"grid_size": grid_size, "error_limit": error_limit, "inverted_fraction": np.nan,
+                "strain_mean": np.nan, "seconds": 0.0, "status": "courant-error",
+                "ramp_end_fraction": np.nan, "strain_max": np.nan, "ramp_time": end_time,
+                "hold_time": 0.0, "settled": False, "dt": dt, "steps": 0, "message": str(exc)}
+    model, liquid, th = setup.model, setup.liquid, setup.scene["thesis"]
+    scale = FillScale.mirrored(model)
+    n_ramp = int(round(th["end_time"] / th["dt"]))
+    n_hold = int(round(hold / dt))
+    window = max(1, int(round(SETTLE_WINDOW / dt)))
+    h0, h1 = th["height_start"] * model.radius, th["height_end"] * model.radius
+    state = ThesisState(model.node_rest_position)
+    status, message = "ok", ""
+    ramp_end = np.nan
+    held = 0
+    settled = False
+    tic = time.perf_counter()
+    last_fill = scale.fill(liquid_volume(model, state.node_position))
+    try:
+        for k in range(1, n_ramp + n_hold + 1):
+            h = h0 + (h1 - h0) * min(k, n_ramp) / n_ramp
+            level = liquid.reference_pressure(h)
+            state = step(model, state, liquid.pressure(state.node_position, level),
+                         liquid.body_acceleration, setup.thesis)
+            if k == n_ramp:
+                ramp_end = float(scale.fill(liquid_volume(model, state.node_position)))
+            if k > n_ramp:
+                held = k - n_ramp
+                if held % window == 0:
+                    fill = float(scale.fill(liquid_volume(model, state.node_position)))
+                    if abs(fill - last_fill) < SETTLE_TOL:
+                        settled = True
+                        break
+                    last_fill = fill
+            elif k == n_ramp:
+                last_fill = ramp_end
+    except CourantError as exc:
+        status, message = "courant-error", str(exc)
+    seconds = time.perf_counter() - tic
+    pos = state.node_position
+    mean, worst = strain_error(model, pos)
+    return {"grid_size": grid_size, "error_limit": error_limit,
+            "inverted_fraction": float(scale.fill(liquid_volume(model, pos))),
+            "strain_mean": mean, "seconds": seconds, "status": status,
+            "ramp_end_fraction": ramp_end, "strain_max": worst, "ramp_time": end_time,
+            "hold_time": held * dt, "settled": settled, "dt": dt,
+            "steps": n_ramp + held, "message": message}
+
+
+def locked(row: dict, reference_norm: float) -> bool:
+    """True when ``row`` holds less than LOCK_RATIO of the reference (both cap-normalised)."""
+    return row["inverted_fraction"] / row["static_cap"] < LOCK_RATIO * reference_norm
+
+
+def classify(rows: list[dict], caps: dict) -> dict:
+    """Set each row's static cap, cap-normalised fill and status (``inverted``/``locked``;
+    ``courant-error`` kept); the reference is the finest grid at the loosest limit of ``rows``.
+    Rows carrying a ``fraction_2x`` (the run at twice the ramp time) also get ``status_2x``.
+    Returns the reference."""
+    for r in rows:
+        r["static_cap"] = caps[r["grid_size"]]
+        r["cap_normalised"] = r["inverted_fraction"] / r["static_cap"]
+    ok = [r for r in rows if r["status"] != "courant-error"]
+    finest = max(r["grid_size"] for r in ok)
+    loosest = max(r["error_limit"] for r in ok if r["grid_size"] == finest)
+    ref = next(r for r in ok if r["grid_size"] == finest and r["error_limit"] == loosest)
+    ref_norm = ref["cap_normalised"]
+    for r in rows:
+        if r["status"] != "courant-error":
+            r["status"] = "locked" if locked(r, ref_norm) else "inverted"
+        if "fraction_2x" in r and r.get("status_2x") != "courant-error":
+            r["status_2x"] = "locked" if locked(
+                dict(r, inverted_fraction=r["fraction_2x"]), ref_norm) else "inverted"
+    return {"grid_size": finest, "error_limit": loosest,
+            "inverted_fraction": ref["inverted_fraction"], "cap_normalised": ref_norm,
+            "lock_threshold_cap_normalised": LOCK_RATIO * ref_norm}
+
+
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--grids", type=int, nargs="+", default=[14, 20, 26, 38])
+    parser.add_argument("--limits", type=float, nargs="+", default=[0.5, 1.0, 2.0, 5.0],
+                        help="strain limits, thesis ErrorLimit (%%)")
+    parser.add_argument("--end-time", type=float, default=0.5, help="ramp time (s)")
+    parser.add_argument("--hold", type=float, default=0.5, help="longest hold at +1.05 R (s)")
+    parser.add_argument("--dt", type=float, default=1e-4, help="time step (s)")
+    parser.add_argument("--no-check", action="store_true",
+                        help="skip the quasi-static check (every point again at 2x the ramp time)")
+    parser.add_argument("--extra-check", type=float, nargs=3, action="append",
+                        metavar=("N", "LIMIT", "FACTOR"),
+                        help="also run grid N at LIMIT %% with FACTOR x the ramp time "
+                             "(repeatable; default 26 1 4)")
+    args = parser.parse_args(argv)
+    grids, limits = sorted(args.grids), sorted(args.limits)
+    extra = args.extra_check if args.extra_check is not None else [[26, 1.0, 4.0]]
+    logging.getLogger("fsi").setLevel(logging.ERROR)
+    t_total = time.perf_counter()
+    run_point(6, 1.0, 0.002, 0.0, 1e-4)  # compile the kernels
+    caps = {}
+    for n in sorted(set(grids) | {int(e[0]) for e in extra}):
+        caps[n] = static_cap(n)
+        print(f"N = {n}: static cap (fully inverted equilibrium) {caps[n]:.3f}",
+              file=sys.stderr, flush=True)
+    rows = []
+    factors = (1.0,) if args.no_check else (1.0, 2.0)
+    for factor in factors:
+        for n in grids:
+            for limit in limits:
+                row = run_point(n, limit, factor * args.end_time, args.hold, args.dt)
+                _progress(row)
+                if factor == 1.0:
+                    rows.append(row)
+                    continue
+                base = next(r for r in rows if r["grid_size"] == n and r["error_limit"] == limit)
+                base.update(fraction_2x=row["inverted_fraction"], strain_mean_2x=row["strain_mean"],
+                            seconds_2x=row["seconds"], status_2x=row["status"],
+                            quasi_static=bool(abs(row["inverted_fraction"]
+                                                  - base["inverted_fraction"]) <= QS_TOL))
+    reference = classify(rows, caps)
+    checks = []
+    for n, limit, factor in extra:
+        row = run_point(int(n), limit, factor * args.end_time, args.hold, args.dt)
+        _progress(row)
+        row["static_cap"] = caps[int(n)]
+        row["cap_normalised"] = row["inverted_fraction"] / row["static_cap"]
+        if row["status"] != "courant-error":
+            row["status"] = "locked" if locked(row, reference["cap_normalised"]) else "inverted"
+        checks.append(row)
+    OUTPUT.mkdir(exist_ok=True)
+    _write_csv(OUTPUT / "grid_locking.csv", rows)
+    if checks:
+        _write_csv(OUTPUT / "grid_locking_check.csv", checks)
+    _plot(rows, grids, limits, args)
+    total = time.perf_counter() - t_total
+    columns = ("grid_size", "error_limit", "inverted_fraction", "strain_mean", "seconds",
+               "status", "ramp_end_fraction", "cap_normalised", "settled", "fraction_2x",
+               "status_2x", "quasi_static")
+    out = {"ramp_time_s": args.end_time, "max_hold_s": args.hold, "dt_s": args.dt,
+           "lock_ratio": LOCK_RATIO, "quasi_static_tolerance": QS_TOL, "reference": reference,
+           "static_cap": {str(n): caps[n] for n in grids},
+           "table": [{c: r[c] for c in columns if c in r} for r in rows],
+           "quasi_static": {
+               "points_within_tolerance": sum(bool(r.get("quasi_static")) for r in rows),
+               "points_checked": sum("quasi_static" in r for r in rows),
+               "same_status": sum(r.get("status_2x") == r["status"] for r in rows)},
+           "extra_checks": [{c: r[c] for c in ("grid_size", "error_limit", "ramp_time",
+                                               "inverted_fraction", "strain_mean", "status",
+                                               "seconds")} for r in checks],
+           "total_seconds": total}
+    print(json.dumps(out, indent=1))
+    print(f"total {total:.0f} s", file=sys.stderr, flush=True)
+    return out
+
+
+def _progress(row: dict) -> None:
+    print(f"N = {row['grid_size']:2d}, limit {row['error_limit']:g} %, "
+          f"ramp {row['ramp_time']:g} s: "
+          f"fill {row['inverted_fraction']:.3f} (ramp end {row['ramp_end_fraction']:.3f}), "
+          f"strain {row['strain_mean']:.4f}, {row['seconds']:.1f} s, {row['status']}",
+          file=sys.stderr, flush=True)
+
+
+def _write_csv(path: Path, rows: list[dict]) -> None:
+    fields = ["grid_size", "error_limit", "inverted_fraction", "strain_mean", "seconds",
+              "status"]
+    fields += [k for k in rows[0] if k not in fields]
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=fields)
+        writer.writeheader()
+        for r in rows:
+            writer.writerow({k: r.get(k, "") for k in fields})
+
+
+def _plot(rows, grids, limits, args) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    marks = {"locked": " L", "courant-error": " C", "inverted": ""}
+    grid = np.full((len(grids), len(limits)), np.nan)
+    for r in rows:
+        grid[grids.index(r["grid_size"]), limits.index(r["error_limit"])] = r["inverted_fraction"]
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5))
+    im = ax.imshow(grid, origin="lower", cmap="viridis", vmin=0.0, vmax=1.0, aspect="auto")
+    ax.set_xticks(range(len(limits)), [f"{v:g}" for v in limits])
+    ax.set_yticks(range(len(grids)), [str(n) for n in grids])
+    ax.set_xlabel("strain limit ErrorLimit (%)")
+    ax.set_ylabel("grid size N")
+    for r in rows:
+        i, j = grids.index(r["grid_size"]), limits.index(r["error_limit"])
+        text = f"{r['inverted_fraction']:.2f}{marks[r['status']]}"
+        if "fraction_2x" in r:
+            text += f"\n2x: {r['fraction_2x']:.2f}{marks[r['status_2x']]}"
+        ax.text(j, i, text, ha="center", va="center", fontsize=9,
+                color="w" if r["inverted_fraction"] < 0.5 else "k",
+                fontweight="bold" if r["status"] != "inverted" else "normal")
+    fig.colorbar(im, ax=ax, label="inverted fraction (of the mirrored rest volume)")
+    ax.set_title(f"ramp {args.end_time:g} s (2x: {2 * args.end_time:g} s) + hold; "
+                 "L locked, C Courant error", fontsize=10)
+    for n in grids:
+        sel = sorted((r for r in rows if r["grid_size"] == n), key=lambda r: r["error_limit"])
+        x = [r["error_limit"] for r in sel]
+        line, = bx.plot(x, [r["inverted_fraction"] for r in sel], "o-", label=f"N = {n}")
+        color = line.get_color()
+        if all("fraction_2x" in r for r in sel):
+            bx.plot(x, [r["fraction_2x"] for r in sel], "o--", mfc="none", color=color, lw=1)
+        for r in sel:
+            for key, status in (("inverted_fraction", "status"), ("fraction_2x", "status_2x")):
+                if key not in r:
+                    continue
+                if r[status] == "locked":
+                    bx.plot(r["error_limit"], r[key], "x", ms=11, color="k")
+                elif r[status] == "courant-error":
+                    bx.plot(r["error_limit"], r[key], "s", ms=11, mfc="none", color="r")
+        bx.axhline(sel[0]["static_cap"], color=color, ls=":", lw=1)
+    bx.plot([], [], "o--", mfc="none", color="gray", lw=1, label="2x ramp time")
+    bx.plot([], [], "x", color="k", label="locked")
+    bx.plot([], [], "s", mfc="none", color="r", label="Courant error")
+    bx.plot([], [], ":", color="gray", label="static full inversion of N (cap)")
+    bx.set_xscale("log")
+    bx.set_xticks(limits, [f"{v:g}" for v in limits])
+    bx.minorticks_off()
+    bx.set_xlabel("strain limit ErrorLimit (%)")
+    bx.set_ylabel("inverted fraction (of the mirrored rest volume)")
+    bx.set_ylim(0, 1)
+    bx.grid(True, alpha=0.3)
+    bx.legend(fontsize=8, loc="lower right")
+    bx.set_title(f"thesis stepper, dt {args.dt:g} s; locked: fill/cap < {LOCK_RATIO:g} x "
+                 "reference's", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(OUTPUT / "grid_locking.png", dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

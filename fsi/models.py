@@ -1,0 +1,172 @@
+"""Structure models a static scene can use, in a registry (scene key ``structure.model``).
+
+Each model solves the membrane's equilibrium holding a liquid volume under the hydrostatic
+load of the scene; all share the thesis's grid, masses and fixed rings (:class:`Setup.model`).
+
+* ``thesis`` -- the thesis's particle membrane (bending springs, App. G strain limiting),
+  relaxed in pseudo-time (:mod:`structure.statics`).
+* ``xpbd`` -- plane-stress membrane (E, nu) with calibrated bending (D = E t^3 / 12 (1 - nu^2))
+  as XPBD constraints (:mod:`structure.xpbd`): dynamic substeps with kinetic damping reach
+  the volume, then warm-started quasi-static substeps remove the time-step bias.  Where the
+  quasi-static polish diverges (compressed, buckling membrane) the damped result is returned
+  and marked not converged.
+* ``shell`` -- the same membrane and bending energies (or a neo-Hookean membrane), whose
+  potential-energy minimum under the volume constraint is found by L-BFGS
+  (:mod:`structure.shell`), started from the XPBD relaxation.
+
+``auto`` picks, at the scene's grid size, the cheapest model whose measured Eqn 6.1 error
+(``MODEL_TABLE``, from ``benchmarks/structure_models.py``) is within ``structure.accuracy``.
+"""
+from __future__ import annotations
+
+import logging
+import json
+from dataclasses import dataclass
+from importlib import resources
+from typing import Callable
+
+import numpy as np
+
+from structure.model import MembraneState
+from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
+from structure.statics import solve_equilibrium as thesis_solve
+from structure.xpbd import (XpbdDivergence, XpbdModel, XpbdSettings,
+                            solve_equilibrium as xpbd_solve)
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class Solution:
+    """Outcome of one equilibrium: steps (solver iterations), converged, pressure_level (Pa at
+    the tank centre), liquid_volume (m^3)."""
+
+    steps: int
+    converged: bool
+    pressure_level: float
+    liquid_volume: float
+
+
+@dataclass(frozen=True)
+class StructureModel:
+    """prepare(setup) -> solver data, built once per run; solve(data, setup, state,
+    volume_target (m^3), level (Pa, starting guess)) -> (MembraneState, Solution)."""
+
+    name: str
+    description: str
+    prepare: Callable
+    solve: Callable
+
+
+STRUCTURE_MODELS: dict[str, StructureModel] = {}
+
+
+def register_model(model: StructureModel) -> StructureModel:
+    STRUCTURE_MODELS[model.name] = model
+    return model
+
+
+def _thesis_solve(_, setup, state, volume_target, level):
+    # the thesis relaxation finds its level by integral action from zero at every fill
+    liquid = setup.liquid
+    state, info = thesis_solve(setup.model, state, liquid.pressure, liquid.body_acceleration,
+                               setup.relaxation, volume_target=volume_target)
+    return state, Solution(info.steps, info.converged, info.pressure_level, info.liquid_volume)
+
+
+XPBD_RELAX = XpbdSettings(warm_start=False)
+XPBD_POLISH = XpbdSettings(warm_start=True, max_steps=50_000)
+
+
+def _xpbd_relax(model: XpbdModel, setup, state, volume_target, level):
+    liquid = setup.liquid
+    return xpbd_solve(model, state, liquid.pressure, liquid.body_acceleration, XPBD_RELAX,
+                      volume_target=volume_target, pressure_level=level)
+
+
+def _xpbd_solve(model: XpbdModel, setup, state, volume_target, level):
+    relaxed, info = _xpbd_relax(model, setup, state, volume_target, level)
+    steps = info.steps
+    try:
+        polished, pinfo = xpbd_solve(model, relaxed, setup.liquid.pressure,
+                                     setup.liquid.body_acceleration, XPBD_POLISH,
+                                     volume_target=volume_target,
+                                     pressure_level=info.pressure_level)
+    except XpbdDivergence as err:
+        log.warning("xpbd: the quasi-static polish diverged (%s); returning the damped "
+                    "relaxation, whose in-plane stiffness depends on dt", err)
+        return MembraneState(relaxed.node_position), Solution(steps, False, info.pressure_level,
+                                                              info.liquid_volume)
+    return polished, Solution(steps + pinfo.steps, pinfo.converged, pinfo.pressure_level,
+                              pinfo.liquid_volume)
+
+
+def _shell_prepare(setup):
+    settings = ShellSettings(law=setup.scene["structure"]["shell_law"])
+    return (XpbdModel.from_membrane(setup.model), ShellModel.from_membrane(setup.model, settings),
+            settings)
+
+
+def _shell_solve(data, setup, state, volume_target, level):
+    xpbd_model, shell_model, settings = data
+    relaxed, info = _xpbd_relax(xpbd_model, setup, state, volume_target, level)
+    out, sinfo = shell_solve(shell_model, relaxed, setup.liquid.density,
+                             setup.liquid.body_acceleration, settings, volume_target,
+                             info.pressure_level)
+    return out, Solution(info.steps + sinfo.steps, sinfo.converged, sinfo.pressure_level,
+                         sinfo.liquid_volume)
+
+
+register_model(StructureModel(
+    "thesis", "thesis particle membrane: bending springs + App. G strain limiting",
+    lambda setup: None, _thesis_solve))
+register_model(StructureModel(
+    "xpbd", "XPBD plane-stress membrane + calibrated bending, warm-started statics",
+    lambda setup: XpbdModel.from_membrane(setup.model), _xpbd_solve))
+register_model(StructureModel(
+    "shell", "membrane + calibrated bending, potential-energy minimum (L-BFGS)",
+    _shell_prepare, _shell_solve))
+
+
+MODEL_TABLE_FILE = "model_table.json"
+
+
+def _load_table() -> dict[str, dict[int, tuple[float, float]]]:
+    path = resources.files("fsi").joinpath(MODEL_TABLE_FILE)
+    if not path.is_file():
+        return {}
+    raw = json.loads(path.read_text())
+    return {name: {int(n): (float(v["seconds_per_fill"]), float(v["eqn_6_1_error_percent"]))
+                   for n, v in grids.items()} for name, grids in raw["models"].items()}
+
+
+MODEL_TABLE: dict[str, dict[int, tuple[float, float]]] = _load_table()
+"""{model: {grid_size: (seconds per fill, mean Eqn 6.1 error %)}}, measured by
+``benchmarks/structure_models.py --write-table`` (``fsi/model_table.json``)."""
+
+
+def choose_model(requested: str, grid_size: int, accuracy: float) -> str:
+    """The model to run: ``requested`` unless it is ``auto``; then the cheapest model in
+    :data:`MODEL_TABLE` at ``grid_size`` (the nearest measured grid) whose error is at most
+    ``accuracy`` (Eqn 6.1 %), or the most accurate one when none is."""
+    if requested != "auto":
+        if requested not in STRUCTURE_MODELS:
+            raise ValueError(f"unknown structure model {requested!r}; allowed "
+                             f"{sorted(STRUCTURE_MODELS)} or 'auto'")
+        return requested
+    rows = []
+    if not MODEL_TABLE:
+        log.warning("no measured model table (%s); using the thesis model", MODEL_TABLE_FILE)
+        return "thesis"
+    for name, table in MODEL_TABLE.items():
+        grids = np.array(sorted(table))
+        nearest = int(grids[np.argmin(np.abs(grids - grid_size))])
+        seconds, error = table[nearest]
+        rows.append((seconds, error, name))
+    meeting = [r for r in rows if r[1] <= accuracy]
+    if meeting:
+        return min(meeting)[2]
+    best = min(rows, key=lambda r: r[1])
+    log.warning("no structure model meets %.3g %% at N = %d; using the most accurate, %s "
+                "(%.3g %%)", accuracy, grid_size, best[2], best[1])
+    return best[2]

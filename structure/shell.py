@@ -1,0 +1,227 @@
+"""Static shell model of the diaphragm: hyperelastic membrane + calibrated bending, found by
+minimising the total potential energy under the liquid-volume constraint.
+
+For a liquid of density rho under body acceleration b filling the region below the membrane,
+with the uniform pressure level p_ref (Pa, at the tank centre) as the multiplier of the volume
+constraint V(x) = V*, the equilibrium of the thesis's load p = p_ref + rho b . x (Eqn 4.5
+generalised; :mod:`fluid.hydrostatic`) is a stationary point of
+
+    Pi(x) = W_membrane(x) + W_bending(x) - rho b . M1(x) - sum_i m_i b . x_i
+            + W_wall(x) - p_ref (V(x) - V*),
+
+M1 = integral of x over the liquid (first moment, m^4): moving the membrane by dx at x adds
+dV of liquid there, whose potential is -rho b . x dV, exactly the work of p on the move.  M1 and
+V are sums over the membrane triangles (divergence theorem, F = (x_k^2 / 2) e_k; the lower
+tank wall and the equator disc add constants, as in :mod:`structure.volume`).  The tank wall
+is a one-sided quadratic penalty on |x_i| > R for free nodes (stiffness ``wall_stiffness``,
+N/m).  Minimisation: augmented Lagrangian on the volume, each inner problem by L-BFGS
+(SciPy).  A local minimum is a stable equilibrium; the path (continuation over fills) selects
+which one when folds make several.
+
+Membrane laws: :class:`structure.hyperelastic.SaintVenantKirchhoff` (E, nu) or
+:class:`structure.hyperelastic.HyperelasticLaw` (neo-Hookean / Yeoh, incompressible); bending:
+:class:`structure.bending.MidedgeBending` with D = E t^3 / 12 (1 - nu^2).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+from numba import njit
+from scipy.optimize import minimize
+
+from .bending import MidedgeBending
+from .grid import triangles_from_quads
+from .hyperelastic import HyperelasticLaw, SaintVenantKirchhoff, TriangleMembrane
+from .kernels import closed_volume_gradient, closed_volume_term
+from .model import MembraneModel, MembraneState
+from .volume import lower_hemisphere_volume
+
+JIT = dict(cache=True, nogil=True)
+
+MEMBRANE_LAWS = ("saint-venant-kirchhoff", "neo-hookean")
+
+
+@njit(**JIT)
+def first_moment(pos, faces, sign):
+    """Membrane part of the liquid's first moment M1 (3,) m^4 and its gradient (n, 3, 3)
+    [node, coordinate of the node, component of M1], quads split as closed_volume_term."""
+    m1 = np.zeros(3)
+    grad = np.zeros((pos.shape[0], 3, 3))
+    for f in range(faces.shape[0]):
+        for t in range(2):
+            i0, i1, i2 = faces[f, 0], faces[f, 1 + t], faces[f, 2 + t]
+            ab = pos[i1] - pos[i0]
+            ac = pos[i2] - pos[i0]
+            area_vec = 0.5 * np.cross(ab, ac)
+            for k in range(3):
+                a, b, c = pos[i0, k], pos[i1, k], pos[i2, k]
+                q = a * a + b * b + c * c + a * b + b * c + c * a
+                m1[k] += sign * area_vec[k] * q / 12.0
+                # d q / d x_node[k]
+                grad[i0, k, k] += sign * area_vec[k] * (2 * a + b + c) / 12.0
+                grad[i1, k, k] += sign * area_vec[k] * (2 * b + a + c) / 12.0
+                grad[i2, k, k] += sign * area_vec[k] * (2 * c + a + b) / 12.0
+                # d area_vec[k] / d positions: area_vec = 0.5 (x1 - x0) x (x2 - x0)
+                k1, k2 = (k + 1) % 3, (k + 2) % 3
+                s = sign * q / 12.0 * 0.5
+                # area_vec[k] = 0.5 (ab[k1] ac[k2] - ab[k2] ac[k1])
+                grad[i1, k1, k] += s * ac[k2]
+                grad[i1, k2, k] -= s * ac[k1]
+                grad[i2, k2, k] += s * ab[k1]
+                grad[i2, k1, k] -= s * ab[k2]
+                grad[i0, k1, k] -= s * (ac[k2] - ab[k2])
+                grad[i0, k2, k] -= s * (ab[k1] - ac[k1])
+    return m1, grad
+
+
+@dataclass(frozen=True)
+class ShellSettings:
+    """Static solve settings.
+
+    law : one of MEMBRANE_LAWS (neo-Hookean takes mu = E / 3, incompressible);
+    bending : include the calibrated bending energy;
+    wall_stiffness : penalty stiffness of the tank wall per node (N/m);
+    volume_tolerance : |V - V*| / tank volume on the returned shape (-);
+    gradient_tolerance : L-BFGS stops when the largest free-node force is below this fraction
+        of the largest pressure force rho |b| R A_node (-);
+    fill_step : continuation: the volume target moves by at most this fraction of the tank
+        volume per constrained solve (-);
+    max_iterations : L-BFGS iterations per inner solve.
+    """
+
+    law: str = "saint-venant-kirchhoff"
+    bending: bool = True
+    wall_stiffness: float = 2.5e5
+    volume_tolerance: float = 1e-6
+    gradient_tolerance: float = 1e-4
+    fill_step: float = 0.05
+    max_iterations: int = 20000
+
+    def __post_init__(self):
+        if self.law not in MEMBRANE_LAWS:
+            raise ValueError(f"shell law must be one of {MEMBRANE_LAWS}, got {self.law!r}")
+        if not self.wall_stiffness > 0:
+            raise ValueError(f"wall_stiffness must be > 0 N/m, got {self.wall_stiffness!r}")
+        if not 0 < self.fill_step <= 1:
+            raise ValueError(f"fill_step must be in (0, 1], got {self.fill_step!r}")
+
+
+@dataclass(frozen=True)
+class ShellModel:
+    """Fixed data: the :class:`MembraneModel` grid (masses, fixed nodes, quads), its triangle
+    membrane, law and bending."""
+
+    base: MembraneModel
+    membrane: TriangleMembrane
+    law: object
+    bending: Optional[MidedgeBending]
+
+    @classmethod
+    def from_membrane(cls, base: MembraneModel, settings: "ShellSettings") -> "ShellModel":
+        mat = base.material
+        tri = triangles_from_quads(base.face_nodes)
+        membrane = TriangleMembrane(base.node_rest_position, tri, mat.thickness)
+        if settings.law == "neo-hookean":
+            law = HyperelasticLaw.from_youngs_modulus(mat.youngs_modulus)
+        else:
+            law = SaintVenantKirchhoff(mat.youngs_modulus, min(mat.poisson_ratio, 0.4999))
+        bending = (MidedgeBending.build(base.node_rest_position, tri, mat.flexural_rigidity,
+                                        mat.poisson_ratio) if settings.bending else None)
+        return cls(base, membrane, law, bending)
+
+
+@dataclass
+class ShellInfo:
+    """Outcome: steps (L-BFGS iterations, all inner solves), converged, pressure_level (Pa),
+    liquid_volume (m^3), force_ratio (largest free-node residual force over the pressure
+    force scale, -)."""
+
+    steps: int
+    converged: bool
+    pressure_level: float
+    liquid_volume: float
+    force_ratio: float
+
+
+def _volume(base: MembraneModel, x):
+    v = lower_hemisphere_volume(base.radius) + closed_volume_term(x, base.face_nodes,
+                                                                 base.volume_sign)
+    return v, closed_volume_gradient(x, base.face_nodes, base.volume_sign)
+
+
+def _forces(model: ShellModel, x, density, body, wall_k):
+    """Energy (J) without the volume term and its gradient (n, 3) N."""
+    base = model.base
+    e, g = model.membrane.energy_and_gradient(x, model.law)
+    if model.bending is not None:
+        eb, gb = model.bending.energy_and_gradient(x)
+        e, g = e + eb, g + gb
+    m1, gm1 = first_moment(x, base.face_nodes, base.volume_sign)
+    e -= density * float(body @ m1) + float(base.node_mass @ (x @ body))
+    g = g - density * (gm1 @ body) - base.node_mass[:, None] * body[None, :]
+    r = np.sqrt(np.einsum("ij,ij->i", x, x))
+    over = np.where(~base.node_fixed & (r > base.radius), r - base.radius, 0.0)
+    e += 0.5 * wall_k * float(over @ over)
+    g = g + (wall_k * over / np.maximum(r, 1e-300))[:, None] * x
+    return e, g
+
+
+def solve_equilibrium(model: ShellModel, state: MembraneState, density: float,
+                      body_acceleration, settings: ShellSettings, volume_target: float,
+                      pressure_level: float = 0.0):
+    """Stable equilibrium holding ``volume_target`` (m^3) of liquid of ``density`` (kg/m^3)
+    under ``body_acceleration`` (3,) m/s^2, from ``state``; continuation in ``fill_step``
+    volume increments.  Returns (:class:`MembraneState`, :class:`ShellInfo`)."""
+    s = settings
+    base = model.base
+    body = np.asarray(body_acceleration, dtype=float)
+    free = ~base.node_fixed
+    x = np.array(state.node_position, dtype=float)
+    tank = 2.0 * lower_hemisphere_volume(base.radius)
+    mat = base.material
+    scale_e = mat.youngs_modulus * mat.thickness * model.membrane.rest_area.sum()
+    area = base.node_mass / (base.material.density * base.material.thickness)
+    force_scale = density * max(np.linalg.norm(body), 1.0) * base.radius * area.max()
+    level = float(pressure_level)
+    v0, _ = _volume(base, x)
+    n_stages = max(1, int(np.ceil(abs(volume_target - v0) / (s.fill_step * tank))))
+    steps = 0
+    converged = False
+    ratio = np.inf
+    for stage in range(1, n_stages + 1):
+        target = v0 + (volume_target - v0) * stage / n_stages
+        penalty = 100.0 * scale_e / (s.fill_step * tank) ** 2
+
+        for _ in range(40):
+            def objective(flat, level=level, target=target, penalty=penalty):
+                pos = x.copy()
+                pos[free] = flat.reshape(-1, 3)
+                e, g = _forces(model, pos, density, body, s.wall_stiffness)
+                if not np.isfinite(e):
+                    return np.inf, np.zeros_like(flat)
+                v, gv = _volume(base, pos)
+                c = v - target
+                e += -level * c + 0.5 * penalty * c * c
+                g = g + (-level + penalty * c) * gv
+                return e / scale_e, g[free].ravel() / scale_e
+
+            result = minimize(objective, x[free].ravel(), jac=True, method="L-BFGS-B",
+                              options={"maxiter": s.max_iterations, "maxcor": 30,
+                                       "ftol": 1e-15,
+                                       "gtol": s.gradient_tolerance * force_scale / scale_e})
+            steps += int(result.nit)
+            x[free] = result.x.reshape(-1, 3)
+            v, _ = _volume(base, x)
+            level -= penalty * (v - target)
+            if abs(v - target) <= s.volume_tolerance * tank:
+                break
+            penalty *= 4.0
+    e, g = _forces(model, x, density, body, s.wall_stiffness)
+    v, gv = _volume(base, x)
+    residual = g - level * gv
+    ratio = float(np.abs(residual[free]).max() / force_scale)
+    converged = (ratio <= 10 * s.gradient_tolerance
+                 and abs(v - volume_target) <= s.volume_tolerance * tank)
+    return MembraneState(x), ShellInfo(steps, converged, level, float(v), ratio)
