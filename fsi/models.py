@@ -74,8 +74,10 @@ def _thesis_solve(_, setup, state, volume_target, level):
     return state, Solution(info.steps, info.converged, info.pressure_level, info.liquid_volume)
 
 
-XPBD_RELAX = XpbdSettings(warm_start=False)
+XPBD_RELAX = XpbdSettings(warm_start=False, tolerance=1e-5, max_steps=20_000)
+"""Damped dynamic substeps: robust, reach the volume, in-plane stiffness biased by dt."""
 XPBD_POLISH = XpbdSettings(warm_start=True, max_steps=50_000)
+"""Warm-started quasi-static substeps: the dt-independent equilibrium where they converge."""
 
 
 def _xpbd_relax(model: XpbdModel, setup, state, volume_target, level):
