@@ -142,14 +142,23 @@ def main(argv=None) -> dict:
     if "thesis" in summary and 26 in grids:
         out["speedup_thesis_N26"] = THESIS_RUNTIME_SECONDS / summary["thesis"][26]["sweep_seconds"]
     if args.write_table:
-        table = {"reference": out["reference"], "tank_fractions": list(TANK_FRACTIONS),
-                 "models": {name: {str(n): {k: summary[name][n][k] for k in
-                                            ("seconds_per_fill", "eqn_6_1_error_percent")}
-                                   for n in grids if not (name == ref_name and n == grids[-1])}
-                            for name in summary}}
-        TABLE.write_text(json.dumps(table, indent=1) + "\n")
+        write_table(out, grids)
     print(json.dumps(out, indent=1))
     return out
+
+
+def write_table(out: dict, grids: list[int]) -> None:
+    """``fsi/model_table.json`` from a run's JSON ``out`` (grid keys int, or str when read back
+    from the printed JSON): per model and grid (the reference point left out) seconds per fill,
+    mean Eqn 6.1 error and whether every fill converged."""
+    ref_name, ref_grid = out["reference"].split(" N = ")
+    keys = ("seconds_per_fill", "eqn_6_1_error_percent", "all_converged")
+    table = {"reference": out["reference"], "tank_fractions": out["tank_fractions"],
+             "models": {name: {str(n): {k: by_grid[str(n) if str(n) in by_grid else n][k]
+                                        for k in keys}
+                               for n in grids if not (name == ref_name and n == int(ref_grid))}
+                        for name, by_grid in out["models"].items()}}
+    TABLE.write_text(json.dumps(table, indent=1) + "\n")
 
 
 def _plot(grids, summary, ref_name) -> None:

@@ -15,13 +15,13 @@ load of the scene; all share the thesis's grid, masses and fixed rings (:class:`
   (:mod:`structure.shell`), started from the XPBD relaxation.
 
 ``auto`` picks, at the scene's grid size, the cheapest model whose measured Eqn 6.1 error
-(``MODEL_TABLE``, from ``benchmarks/structure_models.py``) is within ``structure.accuracy``.
+(``MODEL_TABLE``, from ``benchmarks/structure_convergence.py``) is within ``structure.accuracy``.
 """
 from __future__ import annotations
 
 import logging
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from typing import Callable
 
@@ -78,12 +78,32 @@ XPBD_RELAX = XpbdSettings(warm_start=False, tolerance=1e-5, max_steps=20_000)
 """Damped dynamic substeps: robust, reach the volume, in-plane stiffness biased by dt."""
 XPBD_POLISH = XpbdSettings(warm_start=True, max_steps=50_000)
 """Warm-started quasi-static substeps: the dt-independent equilibrium where they converge."""
+XPBD_COURANT_FRACTION = 0.3
+"""Substep as a fraction of the explicit limit of the pressure load (fsi.build), per grid."""
+
+
+def _xpbd_dt(setup) -> float:
+    from .build import courant_time_step_limit
+
+    return XPBD_COURANT_FRACTION * courant_time_step_limit(setup.model, setup.liquid,
+                                                           setup.model.radius)
 
 
 def _xpbd_relax(model: XpbdModel, setup, state, volume_target, level):
+    """Damped XPBD to ``volume_target``; the substep is halved (up to three times) when a
+    substep moves a node by more than its length."""
     liquid = setup.liquid
-    return xpbd_solve(model, state, liquid.pressure, liquid.body_acceleration, XPBD_RELAX,
-                      volume_target=volume_target, pressure_level=level)
+    dt = _xpbd_dt(setup)
+    for attempt in range(4):
+        try:
+            return xpbd_solve(model, state, liquid.pressure, liquid.body_acceleration,
+                              replace(XPBD_RELAX, dt=dt), volume_target=volume_target,
+                              pressure_level=level)
+        except XpbdDivergence as err:
+            if attempt == 3:
+                raise
+            log.info("xpbd relaxation diverged at dt = %.3g s (%s); halving dt", dt, err)
+            dt *= 0.5
 
 
 def _xpbd_solve(model: XpbdModel, setup, state, volume_target, level):
@@ -91,7 +111,8 @@ def _xpbd_solve(model: XpbdModel, setup, state, volume_target, level):
     steps = info.steps
     try:
         polished, pinfo = xpbd_solve(model, relaxed, setup.liquid.pressure,
-                                     setup.liquid.body_acceleration, XPBD_POLISH,
+                                     setup.liquid.body_acceleration,
+                                     replace(XPBD_POLISH, dt=_xpbd_dt(setup)),
                                      volume_target=volume_target,
                                      pressure_level=info.pressure_level)
     except XpbdDivergence as err:
@@ -133,38 +154,49 @@ register_model(StructureModel(
 MODEL_TABLE_FILE = "model_table.json"
 
 
-def _load_table() -> dict[str, dict[int, tuple[float, float]]]:
+def _load_table() -> dict[str, dict[int, tuple[float, float, bool]]]:
     path = resources.files("fsi").joinpath(MODEL_TABLE_FILE)
     if not path.is_file():
         return {}
     raw = json.loads(path.read_text())
-    return {name: {int(n): (float(v["seconds_per_fill"]), float(v["eqn_6_1_error_percent"]))
-                   for n, v in grids.items()} for name, grids in raw["models"].items()}
+    return {name: {int(n): (float(v["seconds_per_fill"]), float(v["eqn_6_1_error_percent"]),
+                            bool(v["all_converged"]))
+                   for n, v in grids.items()}
+            for name, grids in raw["models"].items()}
 
 
-MODEL_TABLE: dict[str, dict[int, tuple[float, float]]] = _load_table()
-"""{model: {grid_size: (seconds per fill, mean Eqn 6.1 error %)}}, measured by
-``benchmarks/structure_models.py --write-table`` (``fsi/model_table.json``)."""
+MODEL_TABLE: dict[str, dict[int, tuple[float, float, bool]]] = _load_table()
+"""{model: {grid_size: (seconds per fill, mean Eqn 6.1 error %, every fill converged)}},
+measured by ``benchmarks/structure_convergence.py --write-table`` (``fsi/model_table.json``)."""
 
 
 def choose_model(requested: str, grid_size: int, accuracy: float) -> str:
     """The model to run: ``requested`` unless it is ``auto``; then the cheapest model in
-    :data:`MODEL_TABLE` at ``grid_size`` (the nearest measured grid) whose error is at most
-    ``accuracy`` (Eqn 6.1 %), or the most accurate one when none is."""
+    :data:`MODEL_TABLE` at ``grid_size`` (the nearest measured grid) that converged there and
+    whose error is at most ``accuracy`` (Eqn 6.1 %), or the most accurate converged one when
+    none is (among all measured ones when none converged there; the thesis model without a
+    table)."""
     if requested != "auto":
         if requested not in STRUCTURE_MODELS:
             raise ValueError(f"unknown structure model {requested!r}; allowed "
                              f"{sorted(STRUCTURE_MODELS)} or 'auto'")
         return requested
-    rows = []
-    if not MODEL_TABLE:
-        log.warning("no measured model table (%s); using the thesis model", MODEL_TABLE_FILE)
-        return "thesis"
+    rows, unconverged = [], []
     for name, table in MODEL_TABLE.items():
+        if not table:
+            continue
         grids = np.array(sorted(table))
         nearest = int(grids[np.argmin(np.abs(grids - grid_size))])
-        seconds, error = table[nearest]
-        rows.append((seconds, error, name))
+        seconds, error, converged = table[nearest]
+        (rows if converged else unconverged).append((seconds, error, name))
+    if not rows:
+        if not unconverged:
+            log.warning("no measured model table (%s); using the thesis model",
+                        MODEL_TABLE_FILE)
+            return "thesis"
+        log.warning("no model converged at every fill of the measured table near N = %d; "
+                    "choosing among the unconverged measurements", grid_size)
+        rows = unconverged
     meeting = [r for r in rows if r[1] <= accuracy]
     if meeting:
         return min(meeting)[2]

@@ -78,7 +78,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
                      "'auto', 'thesis', 'xpbd' or 'shell'",
                      "membrane model of a volume sweep (README, 'Choosing a structure model'); "
                      "auto: the cheapest meeting structure.accuracy"),
-        "accuracy": Key(float, 15.0, lambda v: 0 < v <= 100, "0 < value <= 100 (%)",
+        "accuracy": Key(float, 5.0, lambda v: 0 < v <= 100, "0 < value <= 100 (%)",
                         "Eqn 6.1 error the scene accepts, for model = 'auto' (%)"),
         "shell_law": Key(str, "saint-venant-kirchhoff",
                          lambda v: v in ("saint-venant-kirchhoff", "neo-hookean"),

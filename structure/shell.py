@@ -25,7 +25,7 @@ Membrane laws: :class:`structure.hyperelastic.SaintVenantKirchhoff` (E, nu) or
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Optional
 
 import numpy as np
 from numba import njit
@@ -168,6 +168,15 @@ def _forces(model: ShellModel, x, density, body, wall_k):
     return e, g
 
 
+def _residual(model: ShellModel, x, level, density, body, s: ShellSettings, force_scale):
+    """Largest free-node residual force of Pi with the level as multiplier, over
+    ``force_scale`` (-)."""
+    base = model.base
+    _, g = _forces(model, x, density, body, s.wall_stiffness)
+    _, gv = _volume(base, x)
+    return float(np.abs((g - level * gv)[~base.node_fixed]).max() / force_scale)
+
+
 def solve_equilibrium(model: ShellModel, state: MembraneState, density: float,
                       body_acceleration, settings: ShellSettings, volume_target: float,
                       pressure_level: float = 0.0):
@@ -215,13 +224,15 @@ def solve_equilibrium(model: ShellModel, state: MembraneState, density: float,
             x[free] = result.x.reshape(-1, 3)
             v, _ = _volume(base, x)
             level -= penalty * (v - target)
-            if abs(v - target) <= s.volume_tolerance * tank:
+            volume_met = abs(v - target) <= s.volume_tolerance * tank
+            # a restart of L-BFGS (fresh curvature pairs) continues where it stalled
+            if volume_met and _residual(model, x, level, density, body, s, force_scale) <= (
+                    10 * s.gradient_tolerance):
                 break
-            penalty *= 4.0
-    e, g = _forces(model, x, density, body, s.wall_stiffness)
-    v, gv = _volume(base, x)
-    residual = g - level * gv
-    ratio = float(np.abs(residual[free]).max() / force_scale)
+            if not volume_met:
+                penalty *= 4.0
+    ratio = _residual(model, x, level, density, body, s, force_scale)
+    v, _ = _volume(base, x)
     converged = (ratio <= 10 * s.gradient_tolerance
                  and abs(v - volume_target) <= s.volume_tolerance * tank)
     return MembraneState(x), ShellInfo(steps, converged, level, float(v), ratio)

@@ -6,7 +6,6 @@ apart in i or j, App. I's exclusion) may end closer than d.  Without it the fold
 interpenetrate, which the second case measures so that the first cannot pass vacuously.
 """
 import numpy as np
-import pytest
 from scipy.spatial import cKDTree
 
 from fsi.build import build
