@@ -168,19 +168,23 @@ def _plot(grids, summary, ref_name) -> None:
 
     fig, ax = plt.subplots(figsize=(7, 5))
     for name, by_grid in summary.items():
-        pts = [n for n in grids if by_grid[n]["eqn_6_1_error_percent"] > 0]
-        ax.loglog([by_grid[n]["sweep_seconds"] for n in pts],
-                  [by_grid[n]["eqn_6_1_error_percent"] for n in pts], "o-", label=name)
-        for n in pts:
-            ax.annotate(f"{n}", (by_grid[n]["sweep_seconds"], by_grid[n]["eqn_6_1_error_percent"]),
-                        textcoords="offset points", xytext=(4, 4), fontsize=7)
+        pts = [n for n in grids if not (name == ref_name and n == grids[-1])]
+        t = [by_grid[n]["sweep_seconds"] for n in pts]
+        e = [by_grid[n]["eqn_6_1_error_percent"] for n in pts]
+        line, = ax.loglog(t, e, "-", label=name)
+        for n, ti, ei in zip(pts, t, e):
+            # filled: every fill converged; open: at least one did not
+            ax.plot(ti, ei, "o", color=line.get_color(),
+                    markerfacecolor=line.get_color() if by_grid[n]["all_converged"] else "white")
+            ax.annotate(f"{n}", (ti, ei), textcoords="offset points", xytext=(4, 4), fontsize=7)
     if "thesis" in summary and 26 in grids:
         ax.scatter([THESIS_RUNTIME_SECONDS], [summary["thesis"][26]["eqn_6_1_error_percent"]],
                    marker="*", s=150, color="k",
                    label="thesis MATLAB time, N = 26 (6 h 50 min), at our thesis-model error")
     ax.set_xlabel("wall time of the sweep (s)")
     ax.set_ylabel(f"Eqn 6.1 error against {ref_name}, N = {grids[-1]} (%)")
-    ax.set_title("Speed against accuracy: static sweep to 20, 35, 50 % of the tank")
+    ax.set_title("Speed against accuracy: static sweep to 20, 35, 50 % of the tank\n"
+                 "(labels: N; open markers: a fill did not converge)", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
