@@ -89,7 +89,13 @@ def _xpbd_dt(setup) -> float:
                                                            setup.model.radius)
 
 
-def _xpbd_relax(model: XpbdModel, setup, state, volume_target, level):
+SHELL_START_STEPS = 3000
+"""Damped XPBD substeps at most before the shell's L-BFGS takes over: a start, not a solution
+(measured at N = 38: 3.2x faster than relaxing to the XPBD tolerance, every fill converged)."""
+
+
+def _xpbd_relax(model: XpbdModel, setup, state, volume_target, level,
+                settings: XpbdSettings = XPBD_RELAX):
     """Damped XPBD to ``volume_target``; the substep is halved (up to three times) when a
     substep moves a node by more than its length."""
     liquid = setup.liquid
@@ -97,7 +103,7 @@ def _xpbd_relax(model: XpbdModel, setup, state, volume_target, level):
     for attempt in range(4):
         try:
             return xpbd_solve(model, state, liquid.pressure, liquid.body_acceleration,
-                              replace(XPBD_RELAX, dt=dt), volume_target=volume_target,
+                              replace(settings, dt=dt), volume_target=volume_target,
                               pressure_level=level)
         except XpbdDivergence as err:
             if attempt == 3:
@@ -132,7 +138,8 @@ def _shell_prepare(setup):
 
 def _shell_solve(data, setup, state, volume_target, level):
     xpbd_model, shell_model, settings = data
-    relaxed, info = _xpbd_relax(xpbd_model, setup, state, volume_target, level)
+    relaxed, info = _xpbd_relax(xpbd_model, setup, state, volume_target, level,
+                                replace(XPBD_RELAX, max_steps=SHELL_START_STEPS))
     out, sinfo = shell_solve(shell_model, relaxed, setup.liquid.density,
                              setup.liquid.body_acceleration, settings, volume_target,
                              info.pressure_level)

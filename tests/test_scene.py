@@ -6,7 +6,8 @@ from fsi.scene import SCHEMA, SceneError, bundled_scenes, load_scene, parse_scen
 
 
 def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
-    assert {"thesis-static", "thesis-ramp"} <= set(bundled_scenes())
+    assert {"thesis-static", "thesis-ramp", "diaphragm-static"} <= set(bundled_scenes())
+    assert load_scene("diaphragm-static")["structure"]["model"] == "auto"
     s = load_scene("thesis-static")
     assert s["membrane"] == dict(grid_size=26, thickness=0.001778, density=1070.0,
                                  youngs_modulus=8.6e6, poisson_ratio=0.5,
