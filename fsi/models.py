@@ -132,7 +132,8 @@ def _xpbd_solve(model: XpbdModel, setup, state, volume_target, level):
 
 def _shell_prepare(setup):
     settings = ShellSettings(law=setup.scene["structure"]["shell_law"])
-    return (XpbdModel.from_membrane(setup.model), ShellModel.from_membrane(setup.model, settings),
+    xpbd_model = XpbdModel.from_membrane(setup.model)
+    return (xpbd_model, ShellModel.from_membrane(setup.model, settings, xpbd_model.bending),
             settings)
 
 

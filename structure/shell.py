@@ -34,9 +34,8 @@ from scipy.optimize import minimize
 from .bending import MidedgeBending
 from .grid import triangles_from_quads
 from .hyperelastic import HyperelasticLaw, SaintVenantKirchhoff, TriangleMembrane
-from .kernels import closed_volume_gradient, closed_volume_term
 from .model import MembraneModel, MembraneState
-from .volume import lower_hemisphere_volume
+from .volume import liquid_volume, liquid_volume_gradient, lower_hemisphere_volume
 
 JIT = dict(cache=True, nogil=True)
 
@@ -119,7 +118,9 @@ class ShellModel:
     bending: Optional[MidedgeBending]
 
     @classmethod
-    def from_membrane(cls, base: MembraneModel, settings: "ShellSettings") -> "ShellModel":
+    def from_membrane(cls, base: MembraneModel, settings: "ShellSettings",
+                      bending: Optional[MidedgeBending] = None) -> "ShellModel":
+        """Shell on ``base``'s grid; ``bending`` reuses an already built bending model."""
         mat = base.material
         tri = triangles_from_quads(base.face_nodes)
         membrane = TriangleMembrane(base.node_rest_position, tri, mat.thickness)
@@ -127,8 +128,11 @@ class ShellModel:
             law = HyperelasticLaw.from_youngs_modulus(mat.youngs_modulus)
         else:
             law = SaintVenantKirchhoff(mat.youngs_modulus, min(mat.poisson_ratio, 0.4999))
-        bending = (MidedgeBending.build(base.node_rest_position, tri, mat.flexural_rigidity,
-                                        mat.poisson_ratio) if settings.bending else None)
+        if not settings.bending:
+            bending = None
+        elif bending is None:
+            bending = MidedgeBending.build(base.node_rest_position, tri, mat.flexural_rigidity,
+                                           mat.poisson_ratio)
         return cls(base, membrane, law, bending)
 
 
@@ -146,9 +150,7 @@ class ShellInfo:
 
 
 def _volume(base: MembraneModel, x):
-    v = lower_hemisphere_volume(base.radius) + closed_volume_term(x, base.face_nodes,
-                                                                 base.volume_sign)
-    return v, closed_volume_gradient(x, base.face_nodes, base.volume_sign)
+    return liquid_volume(base, x), liquid_volume_gradient(base, x)
 
 
 def _forces(model: ShellModel, x, density, body, wall_k):

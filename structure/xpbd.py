@@ -47,7 +47,7 @@ from .grid import triangles_from_quads
 from .hyperelastic import TriangleMembrane
 from .kernels import closed_volume_gradient, closed_volume_term, wall_collision
 from .model import MembraneModel, MembraneState
-from .volume import lower_hemisphere_volume
+from .volume import liquid_volume, liquid_volume_gradient, lower_hemisphere_volume
 
 JIT = dict(cache=True, nogil=True)
 
@@ -318,7 +318,7 @@ def external_force(model: XpbdModel, x: np.ndarray, node_pressure: np.ndarray,
     """Liquid-side pressure (n,) Pa on the node area vectors dV_liquid/dx (pointing out of the
     liquid) plus gravity on the node masses: (n, 3) N."""
     base = model.base
-    area_vector = closed_volume_gradient(x, base.face_nodes, base.volume_sign)
+    area_vector = liquid_volume_gradient(base, x)
     return (node_pressure[:, None] * area_vector
             + base.node_mass[:, None] * np.asarray(body_acceleration, dtype=float)[None, :])
 
@@ -373,8 +373,7 @@ def solve_equilibrium(model: XpbdModel, state: MembraneState, pressure: Pressure
     inv_mass = base.node_inv_mass
     free = ~base.node_fixed
     tank = 2.0 * lower_hemisphere_volume(base.radius)
-    start_volume = lower_hemisphere_volume(base.radius) + closed_volume_term(
-        x, base.face_nodes, base.volume_sign)
+    start_volume = liquid_volume(base, x)
     ramp_steps = 0
     if volume_target is not None:
         ramp_steps = int(np.ceil(abs(volume_target - start_volume) / (s.ramp_rate * tank)))
@@ -428,7 +427,6 @@ def solve_equilibrium(model: XpbdModel, state: MembraneState, pressure: Pressure
         if not ramping and move < s.tolerance and level_change < s.level_tolerance:
             converged = True
             break
-    volume = lower_hemisphere_volume(base.radius) + closed_volume_term(
-        x, base.face_nodes, base.volume_sign)
+    volume = liquid_volume(base, x)
     out = XpbdState(x, np.zeros_like(x), multipliers=lam)
     return out, XpbdInfo(step, converged, move, float(level), float(volume))
