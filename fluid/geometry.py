@@ -58,8 +58,12 @@ def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> 
         band = DISTANCE_BAND_CELLS * h
         lower_v = [a[0] for a in grid.vertex_axes]
         lower_c = [a[0] for a in grid.centre_axes]
-        d_v, _ = lattice_distance(interface, lower_v, [h] * grid.dim, phi_v.shape, band)
-        d_c, vel_c = lattice_distance(interface, lower_c, [h] * grid.dim, phi_c.shape, band)
+        # the flood fill stays inside the tank: outside it the two sides of a membrane
+        # clamped on the wall connect
+        d_v, _ = lattice_distance(interface, lower_v, [h] * grid.dim, phi_v.shape, band,
+                                  barrier=phi_v > 0.0)
+        d_c, vel_c = lattice_distance(interface, lower_c, [h] * grid.dim, phi_c.shape, band,
+                                      barrier=phi_c > 0.0)
         # outside the band only the sign matters (no cut cell has a vertex there)
         itf_v = np.where(np.isfinite(d_v), d_v, np.sign(d_v) * 1e3 * h)
         d_c = np.where(np.isfinite(d_c), d_c, np.sign(d_c) * 1e3 * h)

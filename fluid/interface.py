@@ -6,7 +6,8 @@ the normal is (dz, -dr), i.e. walking along the meridian the liquid lies on the 
 
 :func:`lattice_distance` evaluates, on a uniform lattice, the signed distance to the interface
 (positive on the normal side, i.e. outside the liquid) inside a band around it, the interface
-velocity at the closest point, and the sign everywhere else by flood fill from the band.
+velocity at the closest point, and the sign everywhere else by flood fill from the band
+(kept inside the tank by a barrier mask where the caller gives one).
 Signs near edges and vertices use angle-weighted pseudo-normals (Baerentzen & Aanaes 2005).
 Past the open rim of the surface (the membrane's clamped edge on the tank wall) the surface is
 continued flat: the value is the distance to the last face's plane (segment's line), so the
@@ -266,13 +267,18 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
                                                 + w * vel_pts[tri[f, 2], cc])
 
 
-def _flood_fill_sign(dist: np.ndarray) -> np.ndarray:
+def _flood_fill_sign(dist: np.ndarray, barrier: np.ndarray | None = None) -> np.ndarray:
     """Give the out-of-band entries (inf) the sign of the band entries they touch; the
-    magnitude stays inf. Components touching no band entry keep +inf (outside the liquid)."""
+    magnitude stays inf. Components touching no band entry keep +inf (outside the liquid).
+    The fill does not pass through out-of-band entries where ``barrier`` is True; those take
+    the sign of the nearest other entry (so that cut cells across the barrier's edge see
+    the sign of their side)."""
     out = ~np.isfinite(dist)
     if not out.any():
         return dist
-    labels, count = ndimage.label(out)
+    held = out & barrier if barrier is not None else np.zeros_like(out)
+    fill = out & ~held
+    labels, count = ndimage.label(fill)
     votes = np.zeros(count + 1)
     ndim = dist.ndim
     for axis in range(ndim):
@@ -288,18 +294,27 @@ def _flood_fill_sign(dist: np.ndarray) -> np.ndarray:
             np.add.at(votes, lab[pair], np.sign(nb[pair]))
     sign = np.where(votes >= 0, 1.0, -1.0)
     result = dist.copy()
-    result[out] = sign[labels[out]] * np.inf
+    result[fill] = sign[labels[fill]] * np.inf
+    if held.any() and not held.all():
+        nearest = ndimage.distance_transform_edt(held, return_distances=False,
+                                                 return_indices=True)
+        result[held] = np.where(result[tuple(nearest[:, held])] >= 0.0, np.inf, -np.inf)
+    elif held.any():
+        result[held] = np.inf
     return result
 
 
-def lattice_distance(interface: Interface, origin, spacing, shape, band: float):
+def lattice_distance(interface: Interface, origin, spacing, shape, band: float,
+                     barrier: np.ndarray | None = None):
     """Signed distance (m) to the interface on a uniform lattice and the interface velocity
     (m/s) at the closest point.
 
     origin, spacing: lattice point 0 and step per axis (m); shape: points per axis. A 2-D
     lattice is (r, z) and needs a meridian interface; a 3-D lattice needs triangles.
     Returns (dist shape, vel shape + (3,)); outside ``band`` dist is +-inf (sign by flood
-    fill) and vel is zero."""
+    fill) and vel is zero. ``barrier`` (bool, ``shape``): lattice points the flood fill must
+    not pass through, e.g. those outside the tank: a membrane whose rim lies on the tank wall
+    separates liquid from gas only inside the tank, and outside it both sides connect."""
     shape = tuple(int(s) for s in shape)
     origin = np.asarray(origin, dtype=float)
     spacing = np.asarray(spacing, dtype=float)
@@ -326,4 +341,4 @@ def lattice_distance(interface: Interface, origin, spacing, shape, band: float):
         _band_triangles(origin, spacing, np.array(shape), band, interface.points,
                         interface.velocities, interface.faces, face_n, vert_n, edge_n, rim_edge,
                         rim_vertex, dist, vel)
-    return _flood_fill_sign(dist), vel
+    return _flood_fill_sign(dist, barrier), vel

@@ -15,8 +15,8 @@ from fluid.interface import Interface, lattice_distance
 from fluid.model import FluidModel, Port
 from fluid.solver import FluidSolver
 from fluid.validation import (bowl_meridian, bowl_surface, flat_interface, hydrostatic_check,
-                              piston_check, poiseuille_error, sphere_model, tank_grid,
-                              volume_check)
+                              piston_check, poiseuille_error, sphere_model,
+                              spherical_cap_volume, tank_grid, volume_check)
 from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY
 
 R = TANK_RADIUS
@@ -65,6 +65,38 @@ def test_interface_distance_signs_meridian_and_surface():
     surf = bowl_surface(R, 0.05, 12)
     d3, _ = lattice_distance(surf, [-0.2, -0.2, -0.2], [0.04] * 3, (11, 11, 11), band=0.1)
     assert d3[5, 5, 0] < 0 and d3[5, 5, 10] > 0  # liquid below the bowl
+
+
+def _disc_clamped_on_wall(z0: float, axisymmetric: bool, n: int = 64) -> Interface:
+    """Plane membrane at height z0 whose rim lies exactly on the tank wall (as the diaphragm's
+    clamped rim does), liquid below: a meridian from the wall to the axis, or a fan of
+    triangles on an n-gon inscribed in the wall's circle."""
+    rim = np.sqrt(R**2 - z0**2)
+    if axisymmetric:
+        r = np.linspace(rim, 0.0, 9)
+        pts = np.stack([r, np.zeros_like(r), np.full_like(r, z0)], axis=1)
+        seg = np.stack([np.arange(8), np.arange(1, 9)], axis=1)
+        return Interface(pts, seg, np.zeros_like(pts))
+    t = 2 * np.pi * np.arange(n) / n
+    pts = np.concatenate([[[0.0, 0.0, z0]],
+                          np.stack([rim * np.cos(t), rim * np.sin(t), np.full(n, z0)], 1)])
+    k = np.arange(n)
+    tri = np.stack([np.zeros(n, int), 1 + k, 1 + (k + 1) % n], axis=1)  # normals up
+    return Interface(pts, tri, np.zeros_like(pts))
+
+
+@pytest.mark.parametrize("axisymmetric, cells", [(True, 32), (False, 24)])
+def test_membrane_clamped_on_the_wall_bounds_the_liquid(axisymmetric, cells):
+    """The two sides of a membrane whose rim lies on the wall connect outside the tank; the
+    liquid must still be the spherical cap below it, as bounded by a plane that crosses the
+    wall (same cut cells; the n-gon's slivers at the wall are continued flat)."""
+    z0 = -0.3 * R
+    model = sphere_model(R, tank_grid(R, cells, axisymmetric), [Port("bottom", "flow", 0.0)])
+    liquid = FluidSolver(model, _disc_clamped_on_wall(z0, axisymmetric)).liquid_volume
+    plane = FluidSolver(model, flat_interface(z0, 1.5 * R, 0.0, axisymmetric,
+                                              liquid_above=False)).liquid_volume
+    assert liquid == pytest.approx(plane, rel=1e-3)
+    assert plane == pytest.approx(spherical_cap_volume(R, z0), rel=0.1)  # + the port stub
 
 
 # ------------------------------------------------------------------ hydrostatics
