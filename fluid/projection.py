@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import fipy as fp
 import numpy as np
+from scipy import sparse
+from scipy.sparse.csgraph import connected_components
 
 from .geometry import Geometry
 from .linear import make_solver, pressure_solver_for
@@ -365,17 +367,19 @@ def _pressure_correction(model, ops, state, geometry, u_face, dp_ports, dt):
     coupled = (geometry.cell_fraction > 0) | (_open_area(model, area_open) > 0)
     dvol = _merge_dead_cells(model, dvol, coupled, geometry.cell_fraction)
     source = net_outflow(model, area_open * u_face) + dvol / dt  # FiPy m^3/s per cell
-    mismatch = 0.0
     pin_scale = dt / rho * 2 * g.dim / g.spacing**2
     pressure_pin = np.where(coupled, 0.0, pin_scale)
+    region = _liquid_regions(model, geometry, coupled)
     if not ops.pressure_faces.any():
-        total = source[coupled].sum()
-        weight = geometry.cell_fraction * g.cell_volume
-        mismatch = total * g.volume_factor()
-        source -= total * weight / weight.sum()
-        pressure_pin[_gauge_cell(model, ops, geometry)] = pin_scale
+        gauge = _gauge_cell(model, ops, geometry)
+        pressure_pin[gauge] = pin_scale
+        anchored = region[[gauge]]
     else:
         ops.correction_bc.value = np.nan_to_num(dp_ports)
+        wet_port = ops.pressure_faces & (geometry.face_fraction > 0)
+        anchored = np.unique(region[g.face_cells[0][wet_port]])
+    mismatch = _balance_regions(model, geometry, region, anchored, source, pressure_pin,
+                                pin_scale, flow_only=not ops.pressure_faces.any())
     ops.pressure_coeff.value = geometry.face_fraction * dt / rho
     ops.pressure_pin.value = pressure_pin
     ops.pressure_source.value = source / g.cell_volume
@@ -480,6 +484,50 @@ def _open_area(model: FluidModel, area_open: np.ndarray) -> np.ndarray:
     inner = n_cell >= 0
     return np.bincount(p_cell, weights=area_open, minlength=g.n_cells) + \
         np.bincount(n_cell[inner], weights=area_open[inner], minlength=g.n_cells)
+
+
+def _liquid_regions(model: FluidModel, geometry: Geometry, coupled: np.ndarray) -> np.ndarray:
+    """(n_cells,) label of the connected liquid region of each coupled cell (cells joined by
+    wetted inner faces), -1 for the others. A folded membrane can trap liquid in pockets
+    that no wetted face joins to the rest."""
+    g = model.grid
+    p_cell, n_cell = g.face_cells
+    inner = n_cell >= 0
+    wet = np.zeros(g.n_faces, dtype=bool)
+    wet[inner] = ((geometry.face_fraction[inner] > 0) & coupled[p_cell[inner]]
+                  & coupled[n_cell[inner]])
+    adjacency = sparse.coo_matrix((np.ones(int(wet.sum())), (p_cell[wet], n_cell[wet])),
+                                  shape=(g.n_cells, g.n_cells))
+    _, labels = connected_components(adjacency, directed=False)
+    return np.where(coupled, labels, -1)
+
+
+def _balance_regions(model: FluidModel, geometry: Geometry, region: np.ndarray,
+                     anchored: np.ndarray, source: np.ndarray, pressure_pin: np.ndarray,
+                     pin_scale: float, flow_only: bool) -> float:
+    """Make the pressure system solvable region by region (in place on ``source`` and
+    ``pressure_pin``): a region without a pressure port (with flow ports only: every region)
+    cannot change its liquid volume, so its net source is removed in proportion to the cell
+    fractions; a region that is neither the gauge's nor a pressure port's gets one pinned
+    cell (its wettest). Returns the removed volume rate (m^3/s), the volume mismatch."""
+    g = model.grid
+    coupled = region >= 0
+    labels = region[coupled]
+    n = int(labels.max()) + 1 if labels.size else 0
+    weight = geometry.cell_fraction * g.cell_volume
+    free = np.bincount(labels, minlength=n) > 0
+    free[anchored[anchored >= 0]] = False
+    balance = np.ones(n, dtype=bool) if flow_only else free
+    totals = np.bincount(labels, weights=source[coupled], minlength=n)
+    weights = np.bincount(labels, weights=weight[coupled], minlength=n)
+    share = np.where(balance & (weights > 0), totals / np.where(weights > 0, weights, 1.0),
+                     0.0)
+    source[coupled] -= share[labels] * weight[coupled]
+    cells = np.flatnonzero(coupled)
+    for r in np.flatnonzero(free):
+        members = cells[labels == r]
+        pressure_pin[members[np.argmax(weight[members])]] = pin_scale
+    return float((totals * (balance & (weights > 0))).sum() * g.volume_factor())
 
 
 def _gauge_cell(model: FluidModel, ops: ProjectionOperators, geometry: Geometry) -> int:
