@@ -33,6 +33,10 @@ membrane is compressed and buckles (the inversion of the hemisphere): there it c
 triangles, and :func:`solve_equilibrium` raises :class:`XpbdDivergence`.  Without warm start
 the substeps are dynamic (velocities kept) with kinetic damping (velocities removed at each
 kinetic-energy peak), robust but biased as above.
+
+Dynamics.  :func:`advance` steps one time window of a coupled run: plain substeps with the
+liquid-side pressure of the window held on the nodes and the liquid volume prescribed, the
+membrane's own inertia kept (its stiffness bias ~ dt^2, as measured above, sets the substep).
 """
 from __future__ import annotations
 
@@ -351,6 +355,66 @@ class XpbdInfo:
 PressureField = Callable[[np.ndarray], np.ndarray]
 
 
+def _substep(model: XpbdModel, x: np.ndarray, v: np.ndarray, force: np.ndarray,
+             lam: XpbdMultipliers, s: XpbdSettings, target: Optional[float],
+             step: int) -> np.ndarray:
+    """One substep in place on x (n, 3) m and v (n, 3) m/s under ``force`` (n, 3) N: explicit
+    velocity update, prediction, the constraint sweeps (warm-started when ``s.warm_start``)
+    and v = (x - x_start) / dt. Returns x_start; raises :class:`XpbdDivergence` when a triangle
+    collapses."""
+    v += s.dt * model.base.node_inv_mass[:, None] * force
+    x_start = x.copy()
+    x += s.dt * v
+    try:
+        if s.warm_start:
+            _sweep(model, x, lam, s, target, apply_only=True)
+        for _ in range(s.iterations):
+            _sweep(model, x, lam, s, target, apply_only=False)
+    except ZeroDivisionError as err:  # a collapsed triangle or edge
+        raise XpbdDivergence(f"xpbd substep {step}: a triangle collapsed "
+                             f"(dt = {s.dt:g} s, warm_start = {s.warm_start})") from err
+    v[:] = (x - x_start) / s.dt
+    return x_start
+
+
+def advance(model: XpbdModel, state: MembraneState, duration: float,
+            node_pressure: np.ndarray, body_acceleration, settings: XpbdSettings,
+            volume: Optional[tuple[float, float]] = None):
+    """Dynamic XPBD over one time window of ``duration`` (s).
+
+    The window is cut into the fewest equal substeps no longer than ``settings.dt``; each is
+    plain XPBD (multipliers from zero, velocities kept, no damping; ``settings.warm_start``
+    and ``kinetic_damping`` are ignored), so the membrane keeps its inertia.
+    ``node_pressure`` (n,) Pa acts on the liquid side throughout the window, on the current
+    node area vectors. With ``volume = (V_start, V_end)`` (m^3) the liquid volume is held on
+    the straight line between them, substep by substep (one linearised projection each, so
+    to first order in the substep's volume change), and the uniform pressure level that
+    holds it is the volume multiplier over the substep squared (Pa, added to
+    ``node_pressure``). Returns (:class:`XpbdState` at the window's end with its velocities,
+    level in Pa of the last substep (0 without ``volume``), number of substeps).
+    """
+    if not duration > 0:
+        raise ValueError(f"xpbd window duration must be > 0 s, got {duration!r}")
+    n_sub = max(1, int(np.ceil(duration / settings.dt * (1.0 - 1e-12))))
+    s = XpbdSettings(dt=duration / n_sub, iterations=settings.iterations, warm_start=False,
+                     bending=settings.bending, kinetic_damping=False)
+    x = np.array(state.node_position, dtype=float)
+    v = np.array(state.node_velocity, dtype=float)
+    node_pressure = np.asarray(node_pressure, dtype=float)
+    for k in range(1, n_sub + 1):
+        force = external_force(model, x, node_pressure, body_acceleration)
+        target = None
+        if volume is not None:
+            target = volume[0] + (volume[1] - volume[0]) * k / n_sub
+        lam = XpbdMultipliers.zeros(len(model.triangles))
+        _substep(model, x, v, force, lam, s, target, k)
+        if not np.all(np.isfinite(x)):
+            raise XpbdDivergence(f"xpbd window substep {k}: non-finite positions "
+                                 f"(substep {s.dt:g} s)")
+    level = lam.volume[0] / s.dt**2 if volume is not None else 0.0
+    return XpbdState(x, v, multipliers=None), float(level), n_sub
+
+
 def solve_equilibrium(model: XpbdModel, state: MembraneState, pressure: PressureField,
                       body_acceleration, settings: XpbdSettings,
                       volume_target: Optional[float] = None, pressure_level: float = 0.0):
@@ -370,7 +434,6 @@ def solve_equilibrium(model: XpbdModel, state: MembraneState, pressure: Pressure
     lam = getattr(state, "multipliers", None) or XpbdMultipliers.zeros(m)
     if not s.warm_start:
         lam = XpbdMultipliers.zeros(m)
-    inv_mass = base.node_inv_mass
     free = ~base.node_fixed
     tank = 2.0 * lower_hemisphere_volume(base.radius)
     start_volume = liquid_volume(base, x)
@@ -389,9 +452,6 @@ def solve_equilibrium(model: XpbdModel, state: MembraneState, pressure: Pressure
         if volume_target is None:
             node_pressure = node_pressure + pressure_level
         force = external_force(model, x, node_pressure, body_acceleration)
-        v += s.dt * inv_mass[:, None] * force
-        x_start = x.copy()
-        x += s.dt * v
         target = None
         ramping = False
         if volume_target is not None:
@@ -400,15 +460,7 @@ def solve_equilibrium(model: XpbdModel, state: MembraneState, pressure: Pressure
             target = start_volume + ramp * (volume_target - start_volume)
         if not s.warm_start:
             lam = XpbdMultipliers.zeros(m)
-        try:
-            if s.warm_start:
-                _sweep(model, x, lam, s, target, apply_only=True)
-            for _ in range(s.iterations):
-                _sweep(model, x, lam, s, target, apply_only=False)
-        except ZeroDivisionError as err:  # a collapsed triangle or edge
-            raise XpbdDivergence(f"xpbd substep {step}: a triangle collapsed "
-                                 f"(dt = {s.dt:g} s, warm_start = {s.warm_start})") from err
-        v = (x - x_start) / s.dt
+        x_start = _substep(model, x, v, force, lam, s, target, step)
         if s.warm_start:
             v[:] = 0.0
         elif s.kinetic_damping:

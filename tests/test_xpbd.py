@@ -10,10 +10,12 @@ import numpy as np
 import pytest
 
 from fsi.compare import eqn_6_1_error
-from fsi.constants import MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS, TANK_RADIUS
+from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
+                           STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
 from structure.grid import triangles_from_quads
 from structure.model import Material, MembraneState, disc_model
-from structure.xpbd import XpbdModel, XpbdSettings, solve_equilibrium
+from structure.volume import liquid_volume
+from structure.xpbd import XpbdModel, XpbdSettings, advance, solve_equilibrium
 
 Q = 100.0  # Pa: w0 = 15 mm, about 8 membrane thicknesses (membrane regime)
 GRID = 14
@@ -66,3 +68,59 @@ def test_settings_reject_bad_values():
         XpbdSettings(dt=0.0)
     with pytest.raises(ValueError, match="iterations"):
         XpbdSettings(iterations=0)
+
+
+# ------------------------------------------------------------------ dynamic windows
+
+@pytest.fixture(scope="module")
+def half_full():
+    """Hemisphere (N = 14) relaxed by plain XPBD to half the tank under water, the substep
+    of the window tests: (model, liquid, settings, state, static level Pa)."""
+    from fluid.hydrostatic import HydrostaticLiquid
+    from structure.model import hemisphere_model
+    from structure.volume import lower_hemisphere_volume
+
+    material = Material(MEMBRANE_THICKNESS, MEMBRANE_DENSITY, MEMBRANE_YOUNGS_MODULUS, 0.5)
+    model = XpbdModel.from_membrane(hemisphere_model(GRID, TANK_RADIUS, material, "clamped"))
+    liquid = HydrostaticLiquid(WATER_DENSITY, (0.0, 0.0, -STANDARD_GRAVITY))
+    settings = XpbdSettings(dt=5e-4, warm_start=False, tolerance=1e-7, max_steps=40_000)
+    state, info = solve_equilibrium(model, MembraneState(model.base.node_rest_position),
+                                    liquid.pressure, liquid.body_acceleration, settings,
+                                    volume_target=lower_hemisphere_volume(TANK_RADIUS))
+    assert info.converged
+    return model, liquid, settings, state, info.pressure_level
+
+
+def test_window_advance_holds_an_equilibrium_and_returns_its_level(half_full):
+    """An equilibrium is a fixed point of the dynamic window stepper, and the multiplier of
+    the volume held there is the static pressure level."""
+    model, liquid, settings, state, level = half_full
+    x = state.node_position
+    volume = liquid_volume(model.base, x)
+    out, window_level, n_sub = advance(model, state, 4 * settings.dt, liquid.pressure(x),
+                                       liquid.body_acceleration, settings, (volume, volume))
+    assert n_sub == 4
+    assert np.abs(out.node_position - x).max() < 1e-6  # m, against ~0.1 m of deflection
+    assert window_level == pytest.approx(level, rel=0.01)
+
+
+def test_window_advance_composes_and_follows_the_volume_line(half_full):
+    """Two windows of one substep are one window of two substeps (the state carries the
+    velocities), and the liquid volume ends on the prescribed value (to the accuracy of the
+    one linearised volume projection per substep)."""
+    model, liquid, settings, state, _ = half_full
+    x = state.node_position
+    p = liquid.pressure(x)
+    g = liquid.body_acceleration
+    v0 = liquid_volume(model.base, x)
+    dv = 1e-4 * v0
+    one, _, n_one = advance(model, state, 2 * settings.dt, p, g, settings, (v0, v0 + dv))
+    half, _, _ = advance(model, state, settings.dt, p, g, settings, (v0, v0 + dv / 2))
+    two, _, _ = advance(model, half, settings.dt, p, g, settings, (v0 + dv / 2, v0 + dv))
+    assert n_one == 2
+    assert np.abs(one.node_position - two.node_position).max() < 1e-12
+    assert np.abs(one.node_velocity - two.node_velocity).max() < 1e-9
+    # one linearised projection per substep: on the line to a small part of the step
+    assert abs(liquid_volume(model.base, one.node_position) - (v0 + dv)) < 0.01 * dv
+    with pytest.raises(ValueError, match="duration"):
+        advance(model, state, 0.0, p, g, settings)
