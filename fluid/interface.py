@@ -9,6 +9,11 @@ the normal is (dz, -dr), i.e. walking along the meridian the liquid lies on the 
 velocity at the closest point, and the sign everywhere else by flood fill from the band
 (kept inside the tank by a barrier mask where the caller gives one).
 Signs near edges and vertices use angle-weighted pseudo-normals (Baerentzen & Aanaes 2005).
+On a *closed* triangulated surface (every oriented edge cancelled by its reverse, e.g. the
+membrane closed by a cap outside the tank) the signs in the band come from the generalized
+winding number instead (Jacobson, Kavan & Sorkine-Hornung 2013: the solid angle of the surface
+over 4 pi, 1 inside, 0 outside): it stays exact next to folds whose sheets touch or cross,
+where the closest point, and with it the pseudo-normal sign, jumps between sheets.
 Past the open rim of the surface (the membrane's clamped edge on the tank wall) the surface is
 continued flat: the value is the distance to the last face's plane (segment's line), so the
 level set stays linear where the rim meets the wall and the cut fractions there stay exact.
@@ -267,6 +272,57 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
                                                 + w * vel_pts[tri[f, 2], cc])
 
 
+def is_closed(faces: np.ndarray) -> bool:
+    """True when every oriented edge (u, v) of the triangles is matched by as many (v, u):
+    the surface has no boundary and the winding number is an integer off the surface."""
+    if faces.shape[1] != 3:
+        return False
+    edges = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
+    forward, nf = np.unique(edges, axis=0, return_counts=True)
+    backward, nb = np.unique(edges[:, ::-1], axis=0, return_counts=True)
+    return forward.shape == backward.shape and bool(
+        np.array_equal(forward, backward) and np.array_equal(nf, nb))
+
+
+@njit(**JIT)
+def _winding_band(origin, spacing, dist, p, tri):
+    """Give every finite (in-band) entry of ``dist`` (3-D lattice) the sign of the generalized
+    winding number of the closed surface (p, tri) there: negative (liquid) where it exceeds
+    1/2. Solid angles by Van Oosterom & Strackee (1983)."""
+    ni, nj, nk = dist.shape
+    for i in range(ni):
+        for j in range(nj):
+            for k in range(nk):
+                d = dist[i, j, k]
+                if not np.isfinite(d):
+                    continue
+                qx = origin[0] + i * spacing[0]
+                qy = origin[1] + j * spacing[1]
+                qz = origin[2] + k * spacing[2]
+                total = 0.0
+                for f in range(tri.shape[0]):
+                    ax = p[tri[f, 0], 0] - qx
+                    ay = p[tri[f, 0], 1] - qy
+                    az = p[tri[f, 0], 2] - qz
+                    bx = p[tri[f, 1], 0] - qx
+                    by = p[tri[f, 1], 1] - qy
+                    bz = p[tri[f, 1], 2] - qz
+                    cx = p[tri[f, 2], 0] - qx
+                    cy = p[tri[f, 2], 1] - qy
+                    cz = p[tri[f, 2], 2] - qz
+                    la = np.sqrt(ax * ax + ay * ay + az * az)
+                    lb = np.sqrt(bx * bx + by * by + bz * bz)
+                    lc = np.sqrt(cx * cx + cy * cy + cz * cz)
+                    det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) \
+                        + az * (bx * cy - by * cx)
+                    den = (la * lb * lc + (ax * bx + ay * by + az * bz) * lc
+                           + (bx * cx + by * cy + bz * cz) * la
+                           + (cx * ax + cy * ay + cz * az) * lb)
+                    total += 2.0 * np.arctan2(det, den)
+                inside = total > 2.0 * np.pi  # winding number > 1/2
+                dist[i, j, k] = -abs(d) if inside else abs(d)
+
+
 def _flood_fill_sign(dist: np.ndarray, barrier: np.ndarray | None = None) -> np.ndarray:
     """Give the out-of-band entries (inf) the sign of the band entries they touch; the
     magnitude stays inf. Components touching no band entry keep +inf (outside the liquid).
@@ -341,4 +397,6 @@ def lattice_distance(interface: Interface, origin, spacing, shape, band: float,
         _band_triangles(origin, spacing, np.array(shape), band, interface.points,
                         interface.velocities, interface.faces, face_n, vert_n, edge_n, rim_edge,
                         rim_vertex, dist, vel)
+        if is_closed(interface.faces):
+            _winding_band(origin, spacing, dist, interface.points, interface.faces)
     return _flood_fill_sign(dist, barrier), vel

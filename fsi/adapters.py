@@ -14,7 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from fluid.interface import Interface
+from fluid.interface import Interface, is_closed
 from fluid.solver import FluidSolver
 from structure.model import MembraneState
 from structure.volume import liquid_volume
@@ -30,30 +30,40 @@ class FluidParticipant:
 
     ``level``: uniform pressure (Pa) added to the fluid's pressure, or a function of time
     returning it (the pressure level of an enclosed liquid with flow ports only, see
-    :mod:`fluid.model`)."""
+    :mod:`fluid.model`). ``surface``: how the partner's points and velocities become the
+    fluid's interface (:class:`MembraneSurface`; default: the solver's interface moved to
+    them); pressure is returned at the partner's points only."""
 
     name = "fluid"
     write_fields = (PRESSURE,)
 
-    def __init__(self, solver: FluidSolver, level: float | Callable[[float], float] = 0.0):
+    def __init__(self, solver: FluidSolver, level: float | Callable[[float], float] = 0.0,
+                 surface: "MembraneSurface | None" = None):
         if solver.interface is None:
             raise ValueError("a coupled fluid needs an interface")
         self.solver = solver
         self.level = level
+        self.surface = surface
 
     def _level(self, time: float) -> float:
         return float(self.level(time)) if callable(self.level) else float(self.level)
 
+    def _pressure(self, time: float) -> np.ndarray:
+        p = self.solver.interface_pressure(self._level(time))
+        return p[:self.surface.n_points] if self.surface is not None else p
+
     def initial_data(self) -> dict:
-        return {PRESSURE: self.solver.interface_pressure(self._level(self.solver.state.time))}
+        return {PRESSURE: self._pressure(self.solver.state.time)}
 
     def solve_window(self, time: float, dt: float, data_in) -> dict:
-        shape = self.solver.interface.points.shape
-        interface = self.solver.interface.with_state(
-            np.asarray(data_in[POINTS]).reshape(shape),
-            np.asarray(data_in[VELOCITIES]).reshape(shape))
+        points = np.asarray(data_in[POINTS]).reshape(-1, 3)
+        velocities = np.asarray(data_in[VELOCITIES]).reshape(-1, 3)
+        if self.surface is not None:
+            interface = self.surface(points, velocities)
+        else:
+            interface = self.solver.interface.with_state(points, velocities)
         self.solver.advance(dt, interface)
-        return {PRESSURE: self.solver.interface_pressure(self._level(time + dt))}
+        return {PRESSURE: self._pressure(time + dt)}
 
     def store_checkpoint(self):
         return self.solver.store_checkpoint()
@@ -62,10 +72,62 @@ class FluidParticipant:
         self.solver.restore_checkpoint(checkpoint)
 
 
-def membrane_interface(model: XpbdModel, state: MembraneState) -> Interface:
-    """The membrane as the fluid sees it: its nodes, its triangles (normals to the gas side,
-    i.e. out of the liquid) and its node velocities."""
-    return Interface(state.node_position, model.triangles, state.node_velocity)
+class MembraneSurface:
+    """The membrane closed into the surface of the liquid, as the fluid sees it.
+
+    The membrane's triangles (normals to the gas side, out of the liquid) and a fixed can
+    through its rim ring: a flat annulus at the rim's height out to CAP_REACH R, a cylinder
+    down to -CAP_REACH R and a bottom, all outside the tank and beyond any tank grid. The
+    surface is closed, so the fluid takes the liquid side from its winding number, robust
+    where folds touch or cross (:mod:`fluid.interface`); the liquid side contains the port
+    stub below the tank. Called with the membrane's node positions and velocities (n, 3), it
+    returns the :class:`fluid.interface.Interface` (membrane nodes first, can nodes at rest).
+    """
+
+    CAP_REACH = 4.0
+
+    def __init__(self, model: XpbdModel):
+        base = model.base
+        radius = base.radius
+        rest = base.node_rest_position
+        r = np.hypot(rest[:, 0], rest[:, 1])
+        tol = 1e-9 * radius
+        rim = np.flatnonzero((np.abs(rest[:, 2]) < tol) & (np.abs(r - radius) < tol))
+        if len(rim) < 3:
+            raise ValueError("the membrane has no rim ring on the equator (z = 0, r = R) to "
+                             "close the liquid surface with")
+        rim = rim[np.argsort(np.arctan2(rest[rim, 1], rest[rim, 0]))]
+        n, m = len(rest), len(rim)
+        angle = np.arctan2(rest[rim, 1], rest[rim, 0])
+        reach = self.CAP_REACH * radius
+        ring = np.stack([reach * np.cos(angle), reach * np.sin(angle), np.zeros(m)], axis=1)
+        points = np.concatenate([ring, ring - [0.0, 0.0, reach], [[0.0, 0.0, -reach]]])
+        rings = [rim, n + np.arange(m), n + m + np.arange(m)]
+        pole = n + 2 * m
+        k = np.arange(m)
+        cap = [np.stack([a[k], b[k], b[(k + 1) % m]], 1) for a, b in zip(rings[:-1], rings[1:])]
+        cap += [np.stack([a[k], b[(k + 1) % m], a[(k + 1) % m]], 1)
+                for a, b in zip(rings[:-1], rings[1:])]
+        cap.append(np.stack([rings[-1][k], np.full(m, pole), rings[-1][(k + 1) % m]], 1))
+        cap = np.concatenate(cap)
+        faces = np.concatenate([model.triangles, cap])
+        if not is_closed(faces):
+            faces = np.concatenate([model.triangles, cap[:, ::-1]])
+        if not is_closed(faces):
+            raise ValueError("the membrane's boundary is not its rim ring: cannot close the "
+                             "liquid surface")
+        self.n_points = n
+        self.faces = faces
+        self.cap_points = points
+
+    def __call__(self, node_position: np.ndarray, node_velocity: np.ndarray) -> Interface:
+        points = np.concatenate([node_position, self.cap_points])
+        velocities = np.concatenate([node_velocity, np.zeros_like(self.cap_points)])
+        return Interface(points, self.faces, velocities)
+
+    def of(self, state: MembraneState) -> Interface:
+        """The surface of a membrane state."""
+        return self(state.node_position, state.node_velocity)
 
 
 class MembraneParticipant:

@@ -23,6 +23,10 @@ from .models import choose_model
 from .scene import Scene, SceneError
 
 
+PROCEDURE_MODEL = {"thesis-ramp": "thesis", "coupled-fill": "xpbd"}
+"""Procedures that run one structure model only (the scene check allows it or 'auto')."""
+
+
 @dataclass(frozen=True)
 class Setup:
     """Everything a procedure needs: scene, model, liquid and solver settings."""
@@ -77,8 +81,8 @@ def build(scene: Scene) -> Setup:
         _check_dt("relaxation.dt", relaxation.dt,
                   courant_time_step_limit(model, liquid, model.radius))
     structure = scene["structure"]
-    chosen = ("thesis" if scene["scene"]["procedure"] == "thesis-ramp"
-              else choose_model(structure["model"], model.grid_size, structure["accuracy"]))
+    chosen = PROCEDURE_MODEL.get(scene["scene"]["procedure"]) or choose_model(
+        structure["model"], model.grid_size, structure["accuracy"])
     return Setup(scene, model, liquid, constraints, relaxation, thesis, chosen)
 
 

@@ -13,8 +13,10 @@ Layout of ``result.h5`` (documented in README):
     /<group>/wall_seconds     (n_frames,) s
     ... and the other per-frame datasets a procedure records (each with a ``units`` attribute).
 
-Group ``frames`` is the main sequence (filling, or the thesis frames picked by volume);
-``drain`` the draining sweep; ``history`` every recorded thesis-ramp frame.
+Group ``frames`` is the main sequence (filling, the thesis frames picked by volume, or the
+coupled-fill frames in time); ``drain`` the draining sweep; ``history`` every recorded
+thesis-ramp frame; ``windows`` every coupling window of a coupled-fill run. The XDMF series
+is stamped with ``frames/time`` where there is one, else with the fill fraction.
 
 Files are written into a temporary folder inside the output folder and moved into place only
 when complete, so an interrupted run leaves no half-written result.
@@ -35,6 +37,10 @@ UNITS = {
     "liquid_volume": "m^3", "pressure_level": "m", "pressure_reference": "Pa",
     "wall_seconds": "s", "relaxation_steps": "1", "converged": "1", "strain_error": "1",
     "strain_max": "1", "time": "s", "node_speed_max": "m/s",
+    "node_velocity": "m/s", "interface_pressure": "Pa", "fluid_liquid_volume": "m^3",
+    "tank_fraction": "1", "fluid_speed_max": "m/s", "coupling_iterations": "1",
+    "residual_pressure": "1", "residual_points": "1", "seconds_structure": "s",
+    "seconds_fluid": "s", "port_flow": "m^3/s", "delivered_volume": "m^3",
 }
 
 RESULT_FILE = "result.h5"
@@ -82,7 +88,8 @@ def _write_xdmf(folder: Path, model, frames: dict) -> None:
             writer.write_points_cells(model.node_rest_position, cells)
             for k in range(frames["node_position"].shape[0]):
                 disp = frames["node_position"][k] - model.node_rest_position
-                writer.write_data(float(frames["fill_fraction"][k]),
+                stamp = frames["time"][k] if "time" in frames else frames["fill_fraction"][k]
+                writer.write_data(float(stamp),
                                   point_data={"displacement": disp,
                                               "fixed": model.node_fixed.astype(np.float64)})
     finally:

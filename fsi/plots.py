@@ -3,7 +3,9 @@
 * ``cross_section_fill_XXX.png``: the membrane's middle grid line in the y-z plane with the
   tank wall, as thesis Figs 6.2-6.8 (App. J plots the grid column round(N/2));
 * ``surface_fill_XXX.png``: the 3-D membrane surface;
-* ``cross_sections.png``: all fills of a group in one panel (filling and draining side by side).
+* ``cross_sections.png``: all fills of a group in one panel (filling and draining side by side);
+* ``coupling.png`` (coupled-fill runs): coupling iterations, pressure level and liquid volume
+  per window against time.
 """
 from __future__ import annotations
 
@@ -88,4 +90,31 @@ def make_plots(run_dir) -> list[Path]:
     fig.savefig(p, dpi=90, bbox_inches="tight")
     plt.close(fig)
     written.append(p)
+    if "windows" in res:
+        written.append(_coupling_plot(res, out))
     return written
+
+
+def _coupling_plot(res: dict, out: Path) -> Path:
+    """Iterations, level and volumes per window of a coupled-fill run."""
+    w = res["windows"]
+    t = w["time"]
+    fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
+    axes[0].plot(t, w["coupling_iterations"], ".-")
+    axes[0].set_ylabel("coupling iterations")
+    axes[1].plot(t, w["pressure_reference"], ".-")
+    axes[1].set_ylabel("pressure level (Pa)")
+    v0 = float(res["attrs"]["start_volume"])
+    f0 = float(res["frames"]["fluid_liquid_volume"][0])
+    axes[2].plot(t, w["delivered_volume"], "k-", label="delivered by the port")
+    axes[2].plot(t, w["liquid_volume"] - v0, ".", label="membrane")
+    axes[2].plot(t, w["fluid_liquid_volume"] - f0, "x", label="fluid cut cells")
+    axes[2].set_ylabel("liquid volume change (m$^3$)")
+    axes[2].set_xlabel("time (s)")
+    axes[2].legend(fontsize=8)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    p = out / "coupling.png"
+    fig.savefig(p, dpi=90, bbox_inches="tight")
+    plt.close(fig)
+    return p

@@ -1,4 +1,5 @@
-"""Procedures a scene can run, in a registry: ``volume-sweep`` and ``thesis-ramp``.
+"""Procedures a scene can run, in a registry: ``volume-sweep``, ``thesis-ramp`` and
+``coupled-fill`` (:mod:`fsi.coupled`).
 
 A procedure takes a :class:`fsi.build.Setup` and a progress callback and returns a
 :class:`RunResult`: named groups of frames (arrays with a leading frame axis) that
@@ -156,3 +157,6 @@ def thesis_ramp(setup: Setup, progress: Progress) -> RunResult:
     result.groups.update(frames=_stack(picked), history=hist)
     result.attrs["app_j_full_volume"] = float(final_volume)
     return result
+
+
+from . import coupled  # noqa: E402,F401  (registers coupled-fill)

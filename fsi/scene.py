@@ -15,7 +15,12 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Callable
 
+from coupling import ACCELERATIONS, SCHEMES
+from coupling.scheme import EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS
+
 from . import constants
+
+PROCEDURE_NAMES = ("volume-sweep", "thesis-ramp", "coupled-fill")
 
 
 class SceneError(ValueError):
@@ -51,9 +56,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
     "scene": {
         "name": Key(str, "unnamed", lambda v: len(v) > 0, "non-empty text", "scene name"),
         "description": Key(str, "", lambda v: True, "any text", "one-line description"),
-        "procedure": Key(str, "volume-sweep", lambda v: v in ("volume-sweep", "thesis-ramp"),
-                         "'volume-sweep' or 'thesis-ramp'",
-                         "volume-controlled quasi-static sweep, or the thesis's height ramp"),
+        "procedure": Key(str, "volume-sweep", lambda v: v in PROCEDURE_NAMES,
+                         "'volume-sweep', 'thesis-ramp' or 'coupled-fill'",
+                         "volume-controlled quasi-static sweep, the thesis's height ramp, or "
+                         "the dynamic fill through the port coupled to the liquid's flow"),
     },
     "tank": {
         "radius": Key(float, constants.TANK_RADIUS, _pos, "> 0 m", "spherical tank radius (m)"),
@@ -77,7 +83,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "model": Key(str, "auto", lambda v: v in ("auto", "thesis", "xpbd", "shell"),
                      "'auto', 'thesis', 'xpbd' or 'shell'",
                      "membrane model of a volume sweep (README, 'Choosing a structure model'); "
-                     "auto: the cheapest meeting structure.accuracy"),
+                     "auto: the cheapest meeting structure.accuracy; coupled-fill runs xpbd"),
         "accuracy": Key(float, 5.0, lambda v: 0 < v <= 100, "0 < value <= 100 (%)",
                         "Eqn 6.1 error the scene accepts, for model = 'auto' (%)"),
         "shell_law": Key(str, "saint-venant-kirchhoff",
@@ -124,6 +130,68 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "tolerance": Key(float, None, lambda v: 0 < v < 1, "0 < value < 1",
                          "converged when max node move per step / node size < tolerance"),
         "max_steps": Key(int, None, lambda v: v >= 1, ">= 1", "pseudo-steps per fill at most"),
+    },
+    "dynamics": {
+        "start_fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
+                          "coupled-fill: fill at t = 0, on the mirrored scale (liquid volume "
+                          "over the mirrored hemisphere's), static equilibrium"),
+        "window": Key(float, 2e-3, lambda v: 0 < v <= 1, "0 < value <= 1 s",
+                      "coupled-fill: coupling time window (s)"),
+        "end_time": Key(float, 0.2, _pos, "> 0 s", "coupled-fill: simulated time (s)"),
+        "frame_interval": Key(int, 5, lambda v: v >= 1, ">= 1",
+                              "coupled-fill: windows between recorded frames"),
+        "substep_fraction": Key(float, 0.3, lambda v: 0 < v <= 1, "0 < value <= 1",
+                                "coupled-fill: XPBD substep / explicit limit of the load "
+                                "(0.3: about 1 % stiffness bias, README)"),
+    },
+    "port": {
+        "flow": Key(float, 5e-4, lambda v: abs(v) <= 1.0, "-1..1 m^3/s",
+                    "coupled-fill: volume flow into the liquid through the bottom port "
+                    "(m^3/s; negative drains)"),
+        "ramp_time": Key(float, 0.1, _pos, "> 0 s",
+                         "coupled-fill: the flow rises linearly from 0 over this time (s); a "
+                         "valve opens in finite time, an impulsive start has no solution"),
+    },
+    "fluid": {
+        "cells": Key(int, 16, lambda v: 8 <= v <= 128, "8..128",
+                     "coupled-fill: cells per axis of the 3-D grid over the tank"),
+        "viscosity": Key(float, 1e-3, lambda v: v >= 0, ">= 0 Pa s",
+                         "coupled-fill: dynamic viscosity of the liquid (Pa s)"),
+    },
+    "coupling": {
+        "scheme": Key(str, "implicit-serial", lambda v: v in SCHEMES,
+                      ", ".join(repr(k) for k in sorted(SCHEMES)),
+                      "coupled-fill: coupling scheme (membrane first, liquid second)"),
+        "acceleration": Key(str, "iqn-ils", lambda v: v in ACCELERATIONS,
+                            ", ".join(repr(k) for k in sorted(ACCELERATIONS)),
+                            "coupled-fill: acceleration of the interface pressure"),
+        "relaxation": Key(float, 0.01, lambda v: 0 < v <= 1, "0 < value <= 1",
+                          "coupled-fill: constant under-relaxation factor"),
+        "initial_relaxation": Key(float, 0.01, lambda v: 0 < v <= 1, "0 < value <= 1",
+                                  "coupled-fill: Aitken's first factor of a window, IQN's first "
+                                  "step"),
+        "reuse": Key(int, 8, lambda v: 0 <= v <= 100, "0..100",
+                     "coupled-fill: IQN past windows reused"),
+        "filter_limit": Key(float, 1e-2, lambda v: 0 < v < 1, "0 < value < 1",
+                            "coupled-fill: IQN QR2 filter"),
+        "max_columns": Key(int, 100, lambda v: v >= 1, ">= 1",
+                           "coupled-fill: IQN secant columns at most"),
+        "pressure_tolerance": Key(float, 1e-4, lambda v: 0 < v < 1, "0 < value < 1",
+                                  "coupled-fill: relative change of the interface pressure "
+                                  "per iteration at convergence"),
+        "position_tolerance": Key(float, 1e-6, lambda v: 0 < v < 1, "0 < value < 1",
+                                  "coupled-fill: relative change of the node positions per "
+                                  "iteration at convergence"),
+        "max_iterations": Key(int, 60, lambda v: 1 <= v <= 10_000, "1..10000",
+                              "coupled-fill: coupling iterations per window at most"),
+        "on_max_iterations": Key(str, "error", lambda v: v in ON_MAX_ITERATIONS,
+                                 ", ".join(repr(k) for k in ON_MAX_ITERATIONS),
+                                 "coupled-fill: stop with an error, or accept the window and "
+                                 "log it"),
+        "extrapolation_order": Key(int, 0, lambda v: v in EXTRAPOLATION_WEIGHTS,
+                                   ", ".join(str(k) for k in sorted(EXTRAPOLATION_WEIGHTS)),
+                                   "coupled-fill: prediction of a window's start from past "
+                                   "windows"),
     },
     "thesis": {
         "dt": Key(float, 1e-4, _pos, "> 0 s, below the explicit stability limit",
@@ -209,6 +277,16 @@ def _check_cross(values: dict) -> None:
         raise SceneError(f"scene key 'structure.model' = {values['structure']['model']!r}: the "
                          f"thesis-ramp procedure runs the thesis model only; allowed 'auto' or "
                          f"'thesis'")
+    if (values["scene"]["procedure"] == "coupled-fill"
+            and values["structure"]["model"] not in ("auto", "xpbd")):
+        raise SceneError(f"scene key 'structure.model' = {values['structure']['model']!r}: the "
+                         f"coupled-fill procedure runs the xpbd model (the dynamic membrane); "
+                         f"allowed 'auto' or 'xpbd'")
+    dyn = values["dynamics"]
+    windows = dyn["end_time"] / dyn["window"]
+    if values["scene"]["procedure"] == "coupled-fill" and windows > 1e6:
+        raise SceneError(f"scene key 'dynamics.window' = {dyn['window']!r}: end_time/window = "
+                         f"{windows:.3g} windows; allowed at most 1e6")
     if values["scene"]["procedure"] == "volume-sweep" and len(values["sweep"]["fills"]) < 1:
         raise SceneError("scene key 'sweep.fills' is empty; allowed: at least one fill in [0, 1]")
 

@@ -11,7 +11,7 @@ import pytest
 from fluid import cutcell
 from fluid.container import SphericalTank, UprightCylinder
 from fluid.grid import axisymmetric_grid
-from fluid.interface import Interface, lattice_distance
+from fluid.interface import Interface, is_closed, lattice_distance
 from fluid.model import FluidModel, Port
 from fluid.solver import FluidSolver
 from fluid.validation import (bowl_meridian, bowl_surface, flat_interface, hydrostatic_check,
@@ -128,6 +128,28 @@ def test_liquid_trapped_in_a_fold_keeps_the_pressure_solvable():
     fluid = solver.state.geometry.fluid_centre
     speed = np.linalg.norm(solver.state.cell_velocity[fluid], axis=1)
     assert speed.max() < 10 * w
+
+
+def test_closed_surface_sign_ignores_a_folded_flap():
+    """A fold: a flap of two coincident sheets of opposite orientation hanging from the top of
+    a closed box of liquid. It bounds nothing, so the liquid side must be the box's
+    everywhere; the closest-point sign fails near the flap (its pseudo-normals cancel), the
+    winding number of a closed surface does not (Jacobson et al. 2013)."""
+    a, zb, zt = 0.3, -0.3, 0.0123
+    box = np.array([[-a, -a, zb], [a, -a, zb], [a, a, zb], [-a, a, zb],
+                    [-a, -a, zt], [a, -a, zt], [a, a, zt], [-a, a, zt]])
+    faces = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                      [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+    tip = np.array([[0.0137, 0.0111, -0.15]])
+    folded = np.concatenate([faces, [[4, 6, 8], [6, 4, 8]]])
+    assert is_closed(faces) and is_closed(folded)
+    assert not is_closed(faces[:-1])
+    lattice = ([-0.25] * 3, [0.02] * 3, (26, 26, 26), 0.06)
+    plain, _ = lattice_distance(Interface(box, faces, np.zeros_like(box)), *lattice)
+    points = np.concatenate([box, tip])
+    flap, _ = lattice_distance(Interface(points, folded, np.zeros_like(points)), *lattice)
+    assert np.array_equal(np.sign(plain), np.sign(flap))
+    assert (plain < 0).sum() == 26 * 26 * 14  # z = -0.25 .. 0.01: 14 of 26 layers inside
 
 
 # ------------------------------------------------------------------ hydrostatics

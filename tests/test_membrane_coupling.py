@@ -17,7 +17,7 @@ from fluid.model import Port
 from fluid.solver import FluidSolver
 from fluid.validation import sphere_model, tank_grid
 from fsi.adapters import (POINTS, PRESSURE, FluidParticipant, MembraneParticipant,
-                          membrane_interface)
+                          MembraneSurface)
 from fsi.build import courant_time_step_limit
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
                            STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
@@ -49,9 +49,10 @@ def half_full():
 def _couple(half_full, flow, delivered, windows):
     model, settings, state, level = half_full
     grid = tank_grid(TANK_RADIUS, 16, axisymmetric=False)
+    surface = MembraneSurface(model)
     fluid = FluidSolver(sphere_model(TANK_RADIUS, grid, [Port("bottom", "flow", flow)],
                                      density=WATER_DENSITY, body_acceleration=GRAVITY),
-                        membrane_interface(model, state))
+                        surface.of(state))
     v0 = liquid_volume(model.base, state.node_position)
     membrane = MembraneParticipant(model, state, settings, lambda t: v0 + delivered(t),
                                    GRAVITY, level)
@@ -62,7 +63,7 @@ def _couple(half_full, flow, delivered, windows):
         measures=[ConvergenceMeasure(PRESSURE, "relative", 1e-4),
                   ConvergenceMeasure(POINTS, "relative", 1e-6)],
         max_iterations=60, on_max_iterations="error")
-    log = run(membrane, FluidParticipant(fluid), coupling, WINDOW, windows)
+    log = run(membrane, FluidParticipant(fluid, surface=surface), coupling, WINDOW, windows)
     return membrane, fluid, log, v0
 
 
@@ -96,5 +97,5 @@ def test_coupled_fill_follows_the_port_volume(half_full):
     assert membrane_volume - v0 == pytest.approx(delivered(end), rel=0.01)
     # the fluid's cut cells see the same volume change (its own discretisation of the
     # membrane, 16^3 cells)
-    fluid_start = FluidSolver(fluid.model, membrane_interface(model, half_full[2])).liquid_volume
+    fluid_start = FluidSolver(fluid.model, MembraneSurface(model).of(half_full[2])).liquid_volume
     assert fluid.liquid_volume - fluid_start == pytest.approx(delivered(end), rel=0.15)

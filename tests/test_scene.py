@@ -6,7 +6,8 @@ from fsi.scene import SCHEMA, SceneError, bundled_scenes, load_scene, parse_scen
 
 
 def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
-    assert {"thesis-static", "thesis-ramp", "diaphragm-static"} <= set(bundled_scenes())
+    assert {"thesis-static", "thesis-ramp", "diaphragm-static",
+            "diaphragm-fill"} <= set(bundled_scenes())
     assert load_scene("diaphragm-static")["structure"]["model"] == "auto"
     s = load_scene("thesis-static")
     assert s["membrane"] == dict(grid_size=26, thickness=0.001778, density=1070.0,
@@ -36,6 +37,15 @@ def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
     ("[membrane]\nthicknes = 0.001", "membrane.thicknes", "allowed in [membrane]"),
     ("[membrne]\nthickness = 0.001", "membrne", "allowed"),
     ("[constraints]\nself_collision = 1", "constraints.self_collision", "expected bool"),
+    ("[port]\nramp_time = 0.0", "port.ramp_time", "> 0 s"),
+    ("[coupling]\nacceleration = 'newton'", "coupling.acceleration", "'iqn-ils'"),
+    ("[coupling]\non_max_iterations = 'ignore'", "coupling.on_max_iterations", "'accept'"),
+    ("[dynamics]\nstart_fill = 1.0", "dynamics.start_fill", "0 < value < 1"),
+    ("[fluid]\ncells = 4", "fluid.cells", "8..128"),
+    ("[scene]\nprocedure = 'coupled-fill'\n[structure]\nmodel = 'shell'", "structure.model",
+     "'xpbd'"),
+    ("[scene]\nprocedure = 'coupled-fill'\n[dynamics]\nwindow = 1e-7\nend_time = 1.0",
+     "dynamics.window", "1e6"),
 ])
 def test_bad_scene_raises_naming_key_and_range(text, key, allowed):
     with pytest.raises(SceneError) as err:
