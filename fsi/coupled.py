@@ -11,6 +11,8 @@ port, the membrane and the liquid's flow coupled in time.
   membrane's triangles and node velocities as the moving interface (closed by a cap outside
   the tank, :class:`fsi.adapters.MembraneSurface`), a flow port at the bottom
   pole with Q(t) = ``port.flow`` min(t / ``port.ramp_time``, 1).
+* Tank motion: ``[motion]`` (:mod:`fsi.motion`), the body acceleration g - a(t) in the tank
+  frame, felt by the liquid and by the membrane's mass.
 * Coupling: ``[coupling]`` (:mod:`coupling`), membrane first, liquid second, the interface
   pressure accelerated; convergence on the pressure and the node positions.
 
@@ -36,6 +38,7 @@ from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equili
 from .adapters import (POINTS, PRESSURE, FluidParticipant, MembraneParticipant,
                        MembraneSurface)
 from .build import Setup, courant_time_step_limit
+from .motion import body_acceleration
 from .procedures import Progress, RunResult, _stack, register_procedure
 
 log = logging.getLogger(__name__)
@@ -123,7 +126,7 @@ def coupled_fill(setup: Setup, progress: Progress) -> RunResult:
                   f"{info.pressure_level:.1f} Pa")
 
     flow = PortFlow(port["flow"], port["ramp_time"])
-    body = tuple(liquid.body_acceleration)
+    body = body_acceleration(liquid.body_acceleration, scene["motion"])
     grid = tank_grid(setup.model.radius, fl["cells"], axisymmetric=False)
     surface = MembraneSurface(model)
     fluid = FluidSolver(sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)],

@@ -19,6 +19,7 @@ from coupling import ACCELERATIONS, SCHEMES
 from coupling.scheme import EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS
 
 from . import constants
+from .motion import MOTIONS
 
 PROCEDURE_NAMES = ("volume-sweep", "thesis-ramp", "coupled-fill")
 
@@ -45,6 +46,15 @@ def _pos(v):
 def _vec3(v):
     return isinstance(v, list) and len(v) == 3 and all(
         isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v)
+
+
+def _history(v):
+    """Rows [t, ax, ay, az] of finite numbers, times strictly increasing."""
+    if not isinstance(v, list) or not all(isinstance(r, list) and len(r) == 4 and _vec3(r[1:])
+                                          and _vec3(r[:3]) for r in v):
+        return False
+    times = [r[0] for r in v]
+    return all(b > a for a, b in zip(times, times[1:]))
 
 
 def _fills(v):
@@ -143,6 +153,18 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "substep_fraction": Key(float, 0.3, lambda v: 0 < v <= 1, "0 < value <= 1",
                                 "coupled-fill: XPBD substep / explicit limit of the load "
                                 "(0.3: about 1 % stiffness bias, README)"),
+    },
+    "motion": {
+        "kind": Key(str, "none", lambda v: v in MOTIONS,
+                    ", ".join(repr(k) for k in sorted(MOTIONS)),
+                    "coupled-fill: tank acceleration a(t); the liquid feels "
+                    "liquid.body_acceleration - a(t) (README, 'Tank motion')"),
+        "amplitude": Key(list, [0.0, 0.0, 0.0], _vec3, "three finite numbers (m/s^2)",
+                         "sine: a = amplitude sin(2 pi frequency t) (m/s^2)"),
+        "frequency": Key(float, 1.0, lambda v: v >= 0, ">= 0 Hz", "sine: frequency (Hz)"),
+        "history": Key(list, [], _history,
+                       "rows [t, ax, ay, az], times increasing (s, m/s^2)",
+                       "table: a(t) piecewise linear through the rows, held outside them"),
     },
     "port": {
         "flow": Key(float, 5e-4, lambda v: abs(v) <= 1.0, "-1..1 m^3/s",
@@ -282,6 +304,10 @@ def _check_cross(values: dict) -> None:
         raise SceneError(f"scene key 'structure.model' = {values['structure']['model']!r}: the "
                          f"coupled-fill procedure runs the xpbd model (the dynamic membrane); "
                          f"allowed 'auto' or 'xpbd'")
+    motion = values["motion"]
+    if motion["kind"] == "table" and len(motion["history"]) < 2:
+        raise SceneError(f"scene key 'motion.history' = {motion['history']!r}: motion.kind = "
+                         f"'table' needs at least two rows [t, ax, ay, az]")
     dyn = values["dynamics"]
     windows = dyn["end_time"] / dyn["window"]
     if values["scene"]["procedure"] == "coupled-fill" and windows > 1e6:
