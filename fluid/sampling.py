@@ -18,6 +18,8 @@ JIT = dict(cache=True, nogil=True)
 SAMPLE_REACH_CELLS = 2
 #: cells with a smaller liquid fraction are not used
 MIN_FRACTION = 0.25
+#: a point with no such cell within the block is sampled from a block twice as wide, up to this
+MAX_REACH_CELLS = 8
 
 
 @njit(**JIT)
@@ -91,8 +93,9 @@ def sample_cells(grid: TankGrid, cell_values: np.ndarray, cell_fraction: np.ndar
                  points: np.ndarray, min_fraction: float = MIN_FRACTION) -> np.ndarray:
     """Values (n,) at ``points`` (n, 3) m of a cell field (n_cells,), from liquid cells only.
 
-    On an axisymmetric grid a point (x, y, z) is sampled at (hypot(x, y), z). NaN where no
-    liquid cell lies within reach."""
+    On an axisymmetric grid a point (x, y, z) is sampled at (hypot(x, y), z). A point with no
+    liquid cell within ``SAMPLE_REACH_CELLS`` is sampled from a block twice as wide, then
+    again, up to ``MAX_REACH_CELLS``; NaN where none lies within that."""
     points = np.asarray(points, dtype=float)
     if grid.axisymmetric:
         coords = np.stack([np.hypot(points[:, 0], points[:, 1]), points[:, 2]], axis=1)
@@ -103,6 +106,16 @@ def sample_cells(grid: TankGrid, cell_values: np.ndarray, cell_fraction: np.ndar
     lattice_weights = np.empty_like(lattice_values)
     lattice_weights[grid.cell_lattice] = np.where(cell_fraction >= min_fraction, cell_fraction, 0)
     shape = tuple(grid.shape) + ((1,) if grid.dim == 2 else ())
-    return _fit(np.ascontiguousarray(coords), np.asarray(grid.lower, dtype=float), grid.spacing,
-                lattice_values.reshape(shape), lattice_weights.reshape(shape),
-                SAMPLE_REACH_CELLS)
+    coords = np.ascontiguousarray(coords)
+    lower = np.asarray(grid.lower, dtype=float)
+    values, weights = lattice_values.reshape(shape), lattice_weights.reshape(shape)
+    out = _fit(coords, lower, grid.spacing, values, weights, SAMPLE_REACH_CELLS)
+    reach = SAMPLE_REACH_CELLS
+    missing = np.isnan(out)
+    while missing.any() and reach < MAX_REACH_CELLS:
+        # a point in a thin liquid gap (under a fold, against the wall) on a fine grid
+        reach *= 2
+        out[missing] = _fit(np.ascontiguousarray(coords[missing]), lower, grid.spacing, values,
+                            weights, reach)
+        missing = np.isnan(out)
+    return out

@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from fluid.hydrostatic import HydrostaticLiquid
+from fluid.validation import tank_grid
 from structure.model import Material, MembraneModel, hemisphere_model
 from structure.statics import RelaxationSettings
 from structure.thesis import ConstraintSettings, ThesisSettings
@@ -80,10 +81,29 @@ def build(scene: Scene) -> Setup:
     else:
         _check_dt("relaxation.dt", relaxation.dt,
                   courant_time_step_limit(model, liquid, model.radius))
+    if scene["scene"]["procedure"] == "coupled-fill":
+        _check_port(scene)
     structure = scene["structure"]
     chosen = PROCEDURE_MODEL.get(scene["scene"]["procedure"]) or choose_model(
         structure["model"], model.grid_size, structure["accuracy"])
     return Setup(scene, model, liquid, constraints, relaxation, thesis, chosen)
+
+
+PORT_MIN_CELLS = 1.5
+"""The port stub must span this many fluid cells in radius to carry its flow."""
+
+
+def _check_port(scene: Scene) -> None:
+    h = tank_grid(scene["tank"]["radius"], scene["fluid"]["cells"], axisymmetric=False).spacing
+    radius = scene["port"]["radius"]
+    if radius < PORT_MIN_CELLS * h:
+        raise SceneError(f"scene key 'port.radius' = {radius!r} m is under {PORT_MIN_CELLS} cells "
+                         f"of the fluid grid (cell {h:.4g} m at fluid.cells = "
+                         f"{scene['fluid']['cells']}); allowed {PORT_MIN_CELLS * h:.4g} m and "
+                         f"up, or more fluid cells")
+    if radius >= scene["tank"]["radius"]:
+        raise SceneError(f"scene key 'port.radius' = {radius!r} m: allowed below the tank "
+                         f"radius {scene['tank']['radius']!r} m")
 
 
 def _check_dt(key: str, dt: float, limit: float) -> None:

@@ -9,8 +9,8 @@ port, the membrane and the liquid's flow coupled in time.
   (incompressibility dilemma, :mod:`fsi.adapters`).
 * Fluid: incompressible Navier-Stokes on the 3-D immersed-boundary grid (:mod:`fluid`), the
   membrane's triangles and node velocities as the moving interface (closed by a cap outside
-  the tank, :class:`fsi.adapters.MembraneSurface`), a flow port at the bottom
-  pole with Q(t) = ``port.flow`` min(t / ``port.ramp_time``, 1).
+  the tank, :class:`fsi.adapters.MembraneSurface`), a flow port of radius ``port.radius``
+  at the bottom pole with Q(t) = ``port.flow`` min(t / ``port.ramp_time``, 1).
 * Tank motion: ``[motion]`` (:mod:`fsi.motion`), the body acceleration g - a(t) in the tank
   frame, felt by the liquid and by the membrane's mass.
 * Coupling: ``[coupling]`` (:mod:`coupling`), membrane first, liquid second, the interface
@@ -131,7 +131,8 @@ def coupled_fill(setup: Setup, progress: Progress) -> RunResult:
     surface = MembraneSurface(model)
     fluid = FluidSolver(sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)],
                                      density=liquid.density, viscosity=fl["viscosity"],
-                                     body_acceleration=body),
+                                     body_acceleration=body,
+                                     port_radius_cells=port["radius"] / grid.spacing),
                         surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)
     membrane = MembraneParticipant(model, start, settings,

@@ -170,6 +170,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "flow": Key(float, 5e-4, lambda v: abs(v) <= 1.0, "-1..1 m^3/s",
                     "coupled-fill: volume flow into the liquid through the bottom port "
                     "(m^3/s; negative drains)"),
+        "radius": Key(float, 0.06, lambda v: 0 < v < 1, "0 < value < 1 m, at least 1.5 cells "
+                      "of the fluid grid", "coupled-fill: radius of the port stub below the "
+                      "bottom pole (m)"),
         "ramp_time": Key(float, 0.1, _pos, "> 0 s",
                          "coupled-fill: the flow rises linearly from 0 over this time (s); a "
                          "valve opens in finite time, an impulsive start has no solution"),

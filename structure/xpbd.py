@@ -401,6 +401,12 @@ def advance(model: XpbdModel, state: MembraneState, duration: float,
     x = np.array(state.node_position, dtype=float)
     v = np.array(state.node_velocity, dtype=float)
     node_pressure = np.asarray(node_pressure, dtype=float)
+    if node_pressure.shape != (len(x),):
+        raise ValueError(f"node_pressure must have shape ({len(x)},) (Pa), got "
+                         f"{node_pressure.shape}")
+    if not np.all(np.isfinite(node_pressure)):
+        raise ValueError(f"node_pressure has {int(np.sum(~np.isfinite(node_pressure)))} "
+                         f"non-finite values (Pa)")
     for k in range(1, n_sub + 1):
         force = external_force(model, x, node_pressure, body_acceleration)
         target = None

@@ -13,6 +13,7 @@ from fluid.container import SphericalTank, UprightCylinder
 from fluid.grid import axisymmetric_grid
 from fluid.interface import Interface, is_closed, lattice_distance
 from fluid.model import FluidModel, Port
+from fluid.sampling import sample_cells
 from fluid.solver import FluidSolver
 from fluid.validation import (bowl_meridian, bowl_surface, flat_interface, hydrostatic_check,
                               piston_check, poiseuille_error, sphere_model,
@@ -150,6 +151,22 @@ def test_closed_surface_sign_ignores_a_folded_flap():
     flap, _ = lattice_distance(Interface(points, folded, np.zeros_like(points)), *lattice)
     assert np.array_equal(np.sign(plain), np.sign(flap))
     assert (plain < 0).sum() == 26 * 26 * 14  # z = -0.25 .. 0.01: 14 of 26 layers inside
+
+
+def test_sampling_reaches_further_for_a_point_in_a_thin_gap():
+    """A membrane node in a liquid gap thinner than a cell (under a fold, against the wall)
+    has no wet cell in its sampling block; it is sampled from a wider block, and a linear
+    pressure is still reproduced exactly."""
+    grid = tank_grid(R, 16, axisymmetric=False)
+    centres = np.stack(np.meshgrid(*grid.centre_axes, indexing="ij"), -1).reshape(-1, 3)
+    centres = centres[grid.cell_lattice]
+    pressure = 3.0 + 2.0 * centres[:, 0] - 5.0 * centres[:, 2]
+    point = np.array([[0.013, -0.021, -0.05]])
+    dry = np.abs(centres - point).max(axis=1) < 2.6 * grid.spacing  # the whole block
+    fraction = np.where(dry, 0.0, 1.0)
+    value = sample_cells(grid, pressure, fraction, point)[0]
+    assert value == pytest.approx(3.0 + 2.0 * 0.013 + 5.0 * 0.05, rel=1e-9)
+    assert np.isnan(sample_cells(grid, pressure, np.zeros_like(fraction), point)[0])
 
 
 # ------------------------------------------------------------------ hydrostatics

@@ -53,6 +53,15 @@ def test_bad_scene_raises_naming_key_and_range(text, key, allowed):
     assert key in str(err.value) and allowed in str(err.value)
 
 
+def test_unresolved_port_raises_before_running():
+    from fsi.build import build
+
+    scene = parse_scene("[scene]\nprocedure = 'coupled-fill'\n[port]\nradius = 0.02\n"
+                        "[fluid]\ncells = 16")
+    with pytest.raises(SceneError, match=r"port\.radius.*1\.5 cells.*fluid\.cells = 16"):
+        build(scene)
+
+
 def test_time_step_breaking_courant_limit_raises_before_running():
     scene = parse_scene("[scene]\nprocedure = 'thesis-ramp'\n[thesis]\ndt = 0.01")
     with pytest.raises(SceneError, match=r"thesis\.dt.*Courant.*allowed 0 < dt <"):
