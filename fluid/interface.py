@@ -10,7 +10,7 @@ velocity at the closest point, and the sign everywhere else by flood fill from t
 (kept inside the tank by a barrier mask where the caller gives one).
 Signs near edges and vertices use angle-weighted pseudo-normals (Baerentzen & Aanaes 2005).
 On a *closed* triangulated surface (every oriented edge cancelled by its reverse, e.g. the
-membrane closed by a cap outside the tank) the signs in the band come from the generalized
+membrane closed by a can outside the tank) the signs in the band come from the generalized
 winding number instead (Jacobson, Kavan & Sorkine-Hornung 2013: the solid angle of the surface
 over 4 pi, 1 inside, 0 outside): it stays exact next to folds whose sheets touch or cross,
 where the closest point, and with it the pseudo-normal sign, jumps between sheets.

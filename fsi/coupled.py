@@ -8,7 +8,7 @@ port, the membrane and the liquid's flow coupled in time.
   port has delivered; the multiplier of that volume is the uniform pressure level
   (incompressibility dilemma, :mod:`fsi.adapters`).
 * Fluid: incompressible Navier-Stokes on the 3-D immersed-boundary grid (:mod:`fluid`), the
-  membrane's triangles and node velocities as the moving interface (closed by a cap outside
+  membrane's triangles and node velocities as the moving interface (closed by a can outside
   the tank, :class:`fsi.adapters.MembraneSurface`), a flow port of radius ``port.radius``
   at the bottom pole with Q(t) = ``port.flow`` min(t / ``port.ramp_time``, 1).
 * Tank motion: ``[motion]`` (:mod:`fsi.motion`), the body acceleration g - a(t) in the tank
