@@ -20,21 +20,25 @@ from .solver import FluidSolver
 OFF_GRID = 0.37
 
 
-def tank_grid(radius: float, cells: int, axisymmetric: bool) -> TankGrid:
-    """Grid over a spherical tank of ``radius`` (m) with square cells and two cells of port
-    stub below the bottom pole.
+def tank_grid(radius: float, cells: int, axisymmetric: bool,
+              stub_length: float | None = None) -> TankGrid:
+    """Grid over a spherical tank of ``radius`` (m) with square cells and a port stub of
+    ``stub_length`` (m; default two cells) below the bottom pole, the grid's bottom boundary
+    (where the port condition acts) at its end.
 
     Axisymmetric: ``cells`` across the radius (r in [0, R + 2h]) and twice as many along z
-    (64 -> the 64 x 128 benchmark grid). 3-D: ``cells`` along each axis (32 -> 32^3), the
-    sphere spanning all but three of them."""
+    (64 -> the 64 x 128 benchmark grid). 3-D: ``cells`` along x and y (32 -> 32^3 with the
+    default stub), the sphere spanning all but three of them, and along z as many as cover
+    stub, sphere and one cell above it."""
     if axisymmetric:
         h = radius / (cells - 2)
-        return axisymmetric_grid(cells * h, -radius - 2 * h, -radius - 2 * h + 2 * cells * h,
+        stub = 2 * h if stub_length is None else stub_length
+        return axisymmetric_grid(cells * h, -radius - stub, -radius - 2 * h + 2 * cells * h,
                                  cells)
     h = 2 * radius / (cells - 3)
+    stub = 2 * h if stub_length is None else stub_length
     half = 0.5 * cells * h
-    z0 = -radius - 2 * h
-    return cartesian_grid((-half, -half, z0), (half, half, z0 + cells * h), cells)
+    return cartesian_grid((-half, -half, -radius - stub), (half, half, radius + h), cells)
 
 
 def bowl_meridian(radius: float, sag: float, n: int = 41, velocity=(0.0, 0.0)) -> Interface:

@@ -89,18 +89,20 @@ def build(scene: Scene) -> Setup:
     return Setup(scene, model, liquid, constraints, relaxation, thesis, chosen)
 
 
-PORT_MIN_CELLS = 1.5
-"""The port stub must span this many fluid cells in radius to carry its flow."""
+PORT_MIN_CELLS = {"radius": 1.5, "length": 2.0}
+"""The port stub must span this many fluid cells in radius and in length to carry its flow."""
 
 
 def _check_port(scene: Scene) -> None:
     h = tank_grid(scene["tank"]["radius"], scene["fluid"]["cells"], axisymmetric=False).spacing
+    for key, cells in PORT_MIN_CELLS.items():
+        value = scene["port"][key]
+        if value < cells * h:
+            raise SceneError(f"scene key 'port.{key}' = {value!r} m is under {cells} cells of the "
+                             f"fluid grid (cell {h:.4g} m at fluid.cells = "
+                             f"{scene['fluid']['cells']}); allowed {cells * h:.4g} m and up, "
+                             f"or more fluid cells")
     radius = scene["port"]["radius"]
-    if radius < PORT_MIN_CELLS * h:
-        raise SceneError(f"scene key 'port.radius' = {radius!r} m is under {PORT_MIN_CELLS} cells "
-                         f"of the fluid grid (cell {h:.4g} m at fluid.cells = "
-                         f"{scene['fluid']['cells']}); allowed {PORT_MIN_CELLS * h:.4g} m and "
-                         f"up, or more fluid cells")
     if radius >= scene["tank"]["radius"]:
         raise SceneError(f"scene key 'port.radius' = {radius!r} m: allowed below the tank "
                          f"radius {scene['tank']['radius']!r} m")

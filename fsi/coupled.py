@@ -9,8 +9,9 @@ port, the membrane and the liquid's flow coupled in time.
   (incompressibility dilemma, :mod:`fsi.adapters`).
 * Fluid: incompressible Navier-Stokes on the 3-D immersed-boundary grid (:mod:`fluid`), the
   membrane's triangles and node velocities as the moving interface (closed by a can outside
-  the tank, :class:`fsi.adapters.MembraneSurface`), a flow port of radius ``port.radius``
-  at the bottom pole with Q(t) = ``port.flow`` min(t / ``port.ramp_time``, 1).
+  the tank, :class:`fsi.adapters.MembraneSurface`), a port stub of ``port.radius`` and
+  ``port.length`` below the bottom pole with Q(t) = ``port.flow`` min(t / ``port.ramp_time``, 1)
+  entering at its end.
 * Tank motion: ``[motion]`` (:mod:`fsi.motion`), the body acceleration g - a(t) in the tank
   frame, felt by the liquid and by the membrane's mass.
 * Coupling: ``[coupling]`` (:mod:`coupling`), membrane first, liquid second, the interface
@@ -127,7 +128,8 @@ def coupled_fill(setup: Setup, progress: Progress) -> RunResult:
 
     flow = PortFlow(port["flow"], port["ramp_time"])
     body = body_acceleration(liquid.body_acceleration, scene["motion"])
-    grid = tank_grid(setup.model.radius, fl["cells"], axisymmetric=False)
+    grid = tank_grid(setup.model.radius, fl["cells"], axisymmetric=False,
+                     stub_length=port["length"])
     surface = MembraneSurface(model)
     fluid = FluidSolver(sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)],
                                      density=liquid.density, viscosity=fl["viscosity"],

@@ -173,6 +173,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "radius": Key(float, 0.06, lambda v: 0 < v < 1, "0 < value < 1 m, at least 1.5 cells "
                       "of the fluid grid", "coupled-fill: radius of the port stub below the "
                       "bottom pole (m)"),
+        "length": Key(float, 0.065, lambda v: 0 < v < 1, "0 < value < 1 m, at least 2 cells of "
+                      "the fluid grid", "coupled-fill: length of the port stub below the bottom "
+                      "pole, where the flow enters (m)"),
         "ramp_time": Key(float, 0.1, _pos, "> 0 s",
                          "coupled-fill: the flow rises linearly from 0 over this time (s); a "
                          "valve opens in finite time, an impulsive start has no solution"),

@@ -60,6 +60,9 @@ def test_unresolved_port_raises_before_running():
                         "[fluid]\ncells = 16")
     with pytest.raises(SceneError, match=r"port\.radius.*1\.5 cells.*fluid\.cells = 16"):
         build(scene)
+    scene = parse_scene("[scene]\nprocedure = 'coupled-fill'\n[port]\nlength = 0.05\n")
+    with pytest.raises(SceneError, match=r"port\.length.*2\.0 cells"):
+        build(scene)
 
 
 def test_time_step_breaking_courant_limit_raises_before_running():
