@@ -128,6 +128,9 @@ def coupled_fill(setup: Setup, progress: Progress) -> RunResult:
 
     flow = PortFlow(port["flow"], port["ramp_time"])
     body = body_acceleration(liquid.body_acceleration, scene["motion"])
+    if not np.allclose(body(0.0), liquid.body_acceleration):
+        log.warning("the tank accelerates at t = 0 (motion.history's first row): the static "
+                    "start, under liquid.body_acceleration, is not at rest in the moving tank")
     grid = tank_grid(setup.model.radius, fl["cells"], axisymmetric=False,
                      stub_length=port["length"])
     surface = MembraneSurface(model)
