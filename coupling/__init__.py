@@ -6,9 +6,10 @@ Knows neither fluid nor structure: participants are seen through
 from .acceleration import ACCELERATIONS, AccelerationSettings, register_acceleration
 from .convergence import ConvergenceMeasure
 from .participant import Participant
-from .scheme import (SCHEMES, CouplingError, CouplingLog, CouplingSettings, WindowLog,
-                     register_scheme, run)
+from .scheme import (EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES, CouplingError,
+                     CouplingLog, CouplingSettings, WindowLog, register_scheme, run)
 
 __all__ = ["ACCELERATIONS", "AccelerationSettings", "register_acceleration",
-           "ConvergenceMeasure", "Participant", "SCHEMES", "CouplingError", "CouplingLog",
-           "CouplingSettings", "WindowLog", "register_scheme", "run"]
+           "ConvergenceMeasure", "Participant", "EXTRAPOLATION_WEIGHTS", "ON_MAX_ITERATIONS",
+           "SCHEMES", "CouplingError", "CouplingLog", "CouplingSettings", "WindowLog",
+           "register_scheme", "run"]

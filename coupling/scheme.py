@@ -40,15 +40,22 @@ from .participant import Participant
 log = logging.getLogger(__name__)
 
 SCHEMES: dict[str, Callable] = {}
+IMPLICIT_SCHEMES: set[str] = set()
+"""Names in SCHEMES that iterate each window until the convergence measures hold."""
 ON_MAX_ITERATIONS = ("error", "accept")
 EXTRAPOLATION_WEIGHTS = {0: (1.0,), 1: (2.0, -1.0), 2: (2.5, -2.0, 0.5)}
 """Weights of x^n, x^{n-1}, x^{n-2} in the prediction of a window's starting values."""
 
 
-def register_scheme(name: str):
-    """Decorator: register a window-iteration function under ``name``."""
+def register_scheme(name: str, implicit: bool = True):
+    """Decorator: register a window-iteration function under ``name``; ``implicit``: it
+    iterates each window until the convergence measures hold (so it needs at least one)."""
     def deco(func):
         SCHEMES[name] = func
+        if implicit:
+            IMPLICIT_SCHEMES.add(name)
+        else:
+            IMPLICIT_SCHEMES.discard(name)
         return func
     return deco
 
@@ -68,10 +75,11 @@ class CouplingSettings:
 
     scheme : one of SCHEMES; acceleration : one of ACCELERATIONS (ignored by ``explicit``);
     acceleration_settings : :class:`AccelerationSettings`; measures : list of
-    :class:`ConvergenceMeasure`; max_iterations : per window; on_max_iterations : ``error`` or
-    ``accept``; accelerated_fields : fields in the fixed-point vector (default: the second's
-    fields for serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction
-    of each window's starting values from past windows.
+    :class:`ConvergenceMeasure`, at least one for a scheme in IMPLICIT_SCHEMES;
+    max_iterations : per window; on_max_iterations : ``error`` or ``accept``;
+    accelerated_fields : fields in the fixed-point vector (default: the second's fields for
+    serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction of each
+    window's starting values from past windows.
     """
 
     scheme: str = "implicit-serial"
@@ -98,6 +106,10 @@ class CouplingSettings:
         if self.extrapolation_order not in EXTRAPOLATION_WEIGHTS:
             raise ValueError(f"extrapolation_order must be one of {sorted(EXTRAPOLATION_WEIGHTS)}, "
                              f"got {self.extrapolation_order!r}")
+        if self.scheme in IMPLICIT_SCHEMES and not self.measures:
+            raise ValueError(f"implicit coupling scheme {self.scheme!r} needs at least one "
+                             "ConvergenceMeasure in measures (with none, every window would "
+                             "stop after one iteration as if converged)")
 
 
 @dataclass
@@ -178,7 +190,7 @@ def _extrapolate(history: list, order: int) -> dict:
     return {n: sum(w * h[n] for w, h in zip(weights, history)) for n in history[0]}
 
 
-@register_scheme("explicit")
+@register_scheme("explicit", implicit=False)
 def _explicit(first, second, settings, acceleration, data, t, dt, window):
     solve1, solve2 = _Timed(first, window), _Timed(second, window)
     out1 = solve1(t, dt, _pick(data, second.write_fields))

@@ -214,6 +214,13 @@ def test_bad_settings_raise(kw, match):
         CouplingSettings(**kw)
 
 
+@pytest.mark.parametrize("scheme", ["implicit-serial", "implicit-parallel"])
+def test_implicit_scheme_without_measures_raises(scheme):
+    with pytest.raises(ValueError, match="measures"):
+        CouplingSettings(scheme=scheme, measures=[])
+    CouplingSettings(scheme="explicit", measures=[])  # one pass per window: nothing to measure
+
+
 def test_registries_list_required_names():
     assert {"explicit", "implicit-serial", "implicit-parallel"} <= set(SCHEMES)
     assert {"constant", "aitken", "iqn-ils"} <= set(ACCELERATIONS)
