@@ -29,8 +29,8 @@ def main() -> dict:
                        lambda: hydrostatic_check(R, True, 32, density=RHO, gravity=G)),
                       ("hydrostatics_3d",
                        lambda: hydrostatic_check(R, False, 16, density=RHO, gravity=G)),
-                      ("piston", lambda: [piston_check(n) for n in (16, 32, 64)]),
-                      ("volume_bookkeeping", lambda: volume_check(R))]:
+                      ("piston", lambda: [piston_check(n, gravity=G) for n in (16, 32, 64)]),
+                      ("volume_bookkeeping", lambda: volume_check(R, gravity=G))]:
         print(f"{name} ...", file=sys.stderr, flush=True)
         out[name] = job()
     errors = [poiseuille_error(n) for n in (8, 16, 32)]

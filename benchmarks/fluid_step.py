@@ -55,8 +55,9 @@ from fluid.interface import Interface
 from fluid.linear import LINEAR_SOLVERS, SUITE
 from fluid.model import Port
 from fluid.solver import FluidSolver, Timings
-from fluid.validation import bowl_meridian, bowl_surface, sphere_model, tank_grid
-from fsi.constants import TANK_RADIUS
+from fluid.tank import sphere_model, tank_grid
+from fluid.validation import bowl_meridian, bowl_surface
+from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS
 
 #: grid name -> (cells argument of ``tank_grid``, axisymmetric)
 GRIDS = {"axisymmetric-64x128": (64, True), "3d-32^3": (32, False), "3d-48^3": (48, False)}
@@ -126,6 +127,7 @@ def build_solver(grid_name: str, pressure_solver: str) -> tuple[FluidSolver, boo
     cells, axisymmetric = GRIDS[grid_name]
     grid = tank_grid(TANK_RADIUS, cells, axisymmetric)
     model = sphere_model(TANK_RADIUS, grid, [Port("bottom", "flow", FLOW_RATE)],
+                         body_acceleration=(0.0, 0.0, -STANDARD_GRAVITY),
                          momentum_solver=MOMENTUM_SOLVER, pressure_solver=pressure_solver)
     return FluidSolver(model, membrane(TANK_RADIUS, 0.0, axisymmetric)), axisymmetric
 

@@ -19,7 +19,7 @@ import numpy as np
 @dataclass(frozen=True)
 class HydrostaticLiquid:
     """Liquid of density ``density`` (kg/m^3) under body acceleration ``body_acceleration``
-    (3,) m/s^2 (tank frame; gravity (0, 0, -9.81) for an upright tank at rest)."""
+    (3,) m/s^2 (tank frame; gravity (0, 0, -g) for an upright tank at rest)."""
 
     density: float
     body_acceleration: tuple

@@ -57,9 +57,10 @@ class FluidModel:
     """Incompressible laminar liquid on an immersed-boundary grid.
 
     grid: the fixed grid; container: level set of the tank (see :mod:`fluid.container`);
-    density kg/m^3; viscosity: dynamic, Pa s (0: inviscid); ports: openings;
+    density kg/m^3; viscosity: dynamic, Pa s (0: inviscid);
     body_acceleration: (3,) m/s^2 or a function of time (s) returning it (gravity minus the
-    tank's acceleration; on an axisymmetric grid only its z component may be non-zero);
+    tank's acceleration, e.g. (0, 0, -g) at rest; on an axisymmetric grid only its z
+    component may be non-zero); ports: openings;
     convection: keep the nonlinear term (off for Stokes / linear acoustics-free checks);
     momentum_solver, pressure_solver: names in :data:`fluid.linear.LINEAR_SOLVERS`
     (``auto`` for the pressure: the fastest measured for the grid, see
@@ -71,8 +72,8 @@ class FluidModel:
     container: object
     density: float
     viscosity: float
+    body_acceleration: object
     ports: tuple = ()
-    body_acceleration: object = (0.0, 0.0, -9.81)
     convection: bool = True
     momentum_solver: str = "bicgstab-jacobi"
     pressure_solver: str = "auto"

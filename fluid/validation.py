@@ -1,7 +1,8 @@
 """Validation cases of the immersed-boundary fluid, each with its closed-form oracle.
 
 Used by the test suite, ``benchmarks/fluid_step.py`` and ``benchmarks/fluid_checks.py``.
-Every case places its walls off the grid lines on purpose (immersed, not grid-aligned).
+Every case places its walls off the grid lines on purpose (immersed, not grid-aligned). Gravity
+g (m/s^2) is an input of every case that has one.
 """
 from __future__ import annotations
 
@@ -10,35 +11,15 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .container import SphericalTank, UprightCylinder
-from .grid import TankGrid, axisymmetric_grid, cartesian_grid
+from .container import UprightCylinder
+from .grid import axisymmetric_grid
 from .interface import Interface
 from .model import FluidModel, Port
 from .solver import FluidSolver
+from .tank import sphere_model, tank_grid
 
 #: fraction of a cell by which validation walls sit off the grid lines
 OFF_GRID = 0.37
-
-
-def tank_grid(radius: float, cells: int, axisymmetric: bool,
-              stub_length: float | None = None) -> TankGrid:
-    """Grid over a spherical tank of ``radius`` (m) with square cells and a port stub of
-    ``stub_length`` (m; default two cells) below the bottom pole, the grid's bottom boundary
-    (where the port condition acts) at its end.
-
-    Axisymmetric: ``cells`` across the radius (r in [0, R + 2h]) and twice as many along z
-    (64 -> the 64 x 128 benchmark grid). 3-D: ``cells`` along x and y (32 -> 32^3 with the
-    default stub), the sphere spanning all but three of them, and along z as many as cover
-    stub, sphere and one cell above it."""
-    if axisymmetric:
-        h = radius / (cells - 2)
-        stub = 2 * h if stub_length is None else stub_length
-        return axisymmetric_grid(cells * h, -radius - stub, -radius - 2 * h + 2 * cells * h,
-                                 cells)
-    h = 2 * radius / (cells - 3)
-    stub = 2 * h if stub_length is None else stub_length
-    half = 0.5 * cells * h
-    return cartesian_grid((-half, -half, -radius - stub), (half, half, radius + h), cells)
 
 
 def bowl_meridian(radius: float, sag: float, n: int = 41, velocity=(0.0, 0.0)) -> Interface:
@@ -86,16 +67,17 @@ def flat_interface(z: float, r_max: float, velocity: float, axisymmetric: bool,
 @dataclass(frozen=True)
 class PistonCase:
     """Rigid piston accelerating at ``acceleration`` (m/s^2) upwards from rest at the bottom of
-    an upright cylinder (immersed wall, radius off the grid lines) full of liquid, open to
-    ``top_pressure`` at the top. Oracle: p(piston) - p(top) = rho (g + a) h, h the liquid
-    depth (the extra rho a h is the added-mass pressure)."""
+    an upright cylinder (immersed wall, radius off the grid lines) full of liquid under gravity
+    ``gravity`` g (m/s^2, downwards), open to ``top_pressure`` at the top. Oracle:
+    p(piston) - p(top) = rho (g + a) h, h the liquid depth (the extra rho a h is the added-mass
+    pressure)."""
 
+    gravity: float
     radius: float = 0.1
     depth: float = 0.3
     acceleration: float = 2.0
     density: float = 1000.0
     viscosity: float = 1.0e-3
-    gravity: float = 9.81
     cells_across: int = 32
     start_height: float = 0.01
 
@@ -154,15 +136,6 @@ class PoiseuilleCase:
         return self.radius**2 * self.density / self.viscosity
 
 
-def sphere_model(radius: float, grid: TankGrid, ports, density: float = 1000.0,
-                 viscosity: float = 1.0e-3, body_acceleration=(0.0, 0.0, -9.81),
-                 port_radius_cells: float = 3.3, **options) -> FluidModel:
-    """Spherical tank on ``grid`` with a bottom port stub of ``port_radius_cells`` cells."""
-    tank = SphericalTank(radius, port_radius_cells * grid.spacing)
-    return FluidModel(grid=grid, container=tank, density=density, viscosity=viscosity,
-                      ports=tuple(ports), body_acceleration=body_acceleration, **options)
-
-
 def spherical_cap_volume(radius: float, z: float) -> float:
     """Volume (m^3) of the sphere below the plane at height z (centre at 0)."""
     d = radius + z
@@ -176,12 +149,12 @@ def sphere_cross_section(radius: float, z: float) -> float:
 
 # ------------------------------------------------------------------ the checks, measured
 
-def hydrostatic_check(radius: float, axisymmetric: bool, cells: int, steps: int = 100,
-                      density: float = 1000.0, gravity: float = 9.81,
-                      level: float = 0.05) -> dict:
-    """Membrane (a bowl) at rest in the immersed sphere under a pressure port holding the
-    equivalent height ``level`` (m): largest relative error of p = rho g (h - z) at the
-    membrane points and largest speed (m/s) after ``steps`` steps of 1 ms."""
+def hydrostatic_check(radius: float, axisymmetric: bool, cells: int, gravity: float,
+                      steps: int = 100, density: float = 1000.0, level: float = 0.05) -> dict:
+    """Membrane (a bowl) at rest in the immersed sphere under gravity g = ``gravity`` (m/s^2)
+    and a pressure port holding the equivalent height ``level`` (m): largest relative error of
+    p = rho g (h - z) at the membrane points and largest speed (m/s) after ``steps`` steps of
+    1 ms."""
     grid = tank_grid(radius, cells, axisymmetric)
     port = Port("bottom", "pressure", density * gravity * (level - grid.lower[-1]))
     model = sphere_model(radius, grid, [port], density=density,
@@ -199,10 +172,11 @@ def hydrostatic_check(radius: float, axisymmetric: bool, cells: int, steps: int 
             "max_speed_m_s": solver.velocity_magnitude_max()}
 
 
-def piston_check(cells: int, steps: int = 50, dt: float = 1e-3) -> dict:
-    """:class:`PistonCase` after ``steps`` steps: largest relative error of rho (g + a) h over
-    8 points of the piston, and of its added-mass part rho a h."""
-    case = PistonCase(cells_across=cells)
+def piston_check(cells: int, gravity: float, steps: int = 50, dt: float = 1e-3) -> dict:
+    """:class:`PistonCase` under gravity g = ``gravity`` (m/s^2) after ``steps`` steps of
+    ``dt`` (s): largest relative error of rho (g + a) h over 8 points of the piston, and of
+    its added-mass part rho a h."""
+    case = PistonCase(gravity=gravity, cells_across=cells)
     model = case.model()
     solver = FluidSolver(model, case.piston(0.0))
     for k in range(1, steps + 1):
@@ -215,14 +189,15 @@ def piston_check(cells: int, steps: int = 50, dt: float = 1e-3) -> dict:
             "max_error_of_added_mass_part": err / added}
 
 
-def volume_check(radius: float, cells: int = 32, steps: int = 200, flow: float = 1.0e-3,
-                 dt: float = 5e-3, start_height: float = -0.05) -> dict:
-    """Port inflow ``flow`` (m^3/s) into the sphere with the membrane a plane rising at
-    Q / A(z) (A the sphere's section): the liquid volume's departure from V0 + Q t relative to
-    Q t, the largest |volume mismatch| / Q, and the largest continuity residual relative to
-    Q / V0, over ``steps`` steps."""
+def volume_check(radius: float, gravity: float, cells: int = 32, steps: int = 200,
+                 flow: float = 1.0e-3, dt: float = 5e-3, start_height: float = -0.05) -> dict:
+    """Port inflow ``flow`` (m^3/s) into the sphere under gravity g = ``gravity`` (m/s^2) with
+    the membrane a plane rising at Q / A(z) (A the sphere's section): the liquid volume's
+    departure from V0 + Q t relative to Q t, the largest |volume mismatch| / Q, and the
+    largest continuity residual relative to Q / V0, over ``steps`` steps."""
     grid = tank_grid(radius, cells, True)
-    model = sphere_model(radius, grid, [Port("bottom", "flow", flow)])
+    model = sphere_model(radius, grid, [Port("bottom", "flow", flow)],
+                         body_acceleration=(0.0, 0.0, -gravity))
     v_start = spherical_cap_volume(radius, start_height)
 
     def plane(t):

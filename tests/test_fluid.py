@@ -15,9 +15,10 @@ from fluid.interface import Interface, is_closed, lattice_distance
 from fluid.model import FluidModel, Port
 from fluid.sampling import sample_cells
 from fluid.solver import FluidSolver
+from fluid.tank import sphere_model, tank_grid, tank_spacing
 from fluid.validation import (bowl_meridian, bowl_surface, flat_interface, hydrostatic_check,
-                              piston_check, poiseuille_error, sphere_model,
-                              spherical_cap_volume, tank_grid, volume_check)
+                              piston_check, poiseuille_error, spherical_cap_volume,
+                              volume_check)
 from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY
 
 R = TANK_RADIUS
@@ -92,7 +93,8 @@ def test_membrane_clamped_on_the_wall_bounds_the_liquid(axisymmetric, cells):
     liquid must still be the spherical cap below it, as bounded by a plane that crosses the
     wall (same cut cells; the n-gon's slivers at the wall are continued flat)."""
     z0 = -0.3 * R
-    model = sphere_model(R, tank_grid(R, cells, axisymmetric), [Port("bottom", "flow", 0.0)])
+    model = sphere_model(R, tank_grid(R, cells, axisymmetric), [Port("bottom", "flow", 0.0)],
+                         body_acceleration=(0.0, 0.0, -G))
     liquid = FluidSolver(model, _disc_clamped_on_wall(z0, axisymmetric)).liquid_volume
     plane = FluidSolver(model, flat_interface(z0, 1.5 * R, 0.0, axisymmetric,
                                               liquid_above=False)).liquid_volume
@@ -169,6 +171,17 @@ def test_sampling_reaches_further_for_a_point_in_a_thin_gap():
     assert np.isnan(sample_cells(grid, pressure, np.zeros_like(fraction), point)[0])
 
 
+# ------------------------------------------------------------------ tank grid
+
+@pytest.mark.parametrize("cells, axisymmetric", [(9, True), (32, True), (64, True),
+                                                 (10, False), (16, False), (32, False)])
+def test_tank_spacing_is_the_spacing_of_tank_grid(cells, axisymmetric):
+    """The spacing is known before the grid is built. The grid divides its width (cells
+    spacings) by the cell count again, which can move the last bit (9 and 10 cells here)."""
+    assert tank_grid(R, cells, axisymmetric).spacing == \
+        pytest.approx(tank_spacing(R, cells, axisymmetric), rel=1e-15, abs=0.0)
+
+
 # ------------------------------------------------------------------ hydrostatics
 
 @pytest.mark.parametrize("axisymmetric, cells", [(True, 32), (False, 16)])
@@ -205,7 +218,7 @@ def test_accelerating_tank_with_closed_port_stays_at_rest():
 def test_piston_added_mass_pressure():
     """Rigid piston accelerating at a under a full column of depth h: p = rho (g + a) h within
     2 % (viscous wall shear and the discrete column end are the difference)."""
-    assert piston_check(32)["max_relative_error"] < 0.02
+    assert piston_check(32, gravity=G)["max_relative_error"] < 0.02
 
 
 # ------------------------------------------------------------------ volume bookkeeping
@@ -213,7 +226,7 @@ def test_piston_added_mass_pressure():
 def test_volume_bookkeeping_with_port_inflow():
     """Port inflow Q, membrane (a plane) rising at Q / A(z): liquid volume = V0 + Q t within
     0.1 % of the change over 200 steps; continuity residual and volume mismatch small."""
-    result = volume_check(R)
+    result = volume_check(R, gravity=G)
     assert abs(result["relative_volume_error"]) < 1e-3
     assert result["max_volume_mismatch_over_Q"] < 1e-3
     # residual per unit volume against the mean volumetric rate Q / V
@@ -238,7 +251,8 @@ def test_poiseuille_grid_convergence_is_second_order():
 
 def test_checkpoint_restore_reproduces_the_window_exactly():
     grid = tank_grid(R, 16, True)
-    model = sphere_model(R, grid, [Port("bottom", "flow", 2e-4)])
+    model = sphere_model(R, grid, [Port("bottom", "flow", 2e-4)],
+                         body_acceleration=(0.0, 0.0, -G))
 
     def membrane(t):
         s = 0.2 * R - 2 * 2e-4 / (np.pi * R**2) * t
@@ -266,15 +280,17 @@ def test_bad_input_is_named():
     cyl = UprightCylinder(0.08, -1, 1)
     with pytest.raises(ValueError, match="body_acceleration along z"):
         FluidModel(grid=grid, container=cyl, density=1000, viscosity=1e-3,
-                   body_acceleration=(1.0, 0.0, -9.81))
+                   body_acceleration=(1.0, 0.0, -G))
     with pytest.raises(ValueError, match="port kind"):
         Port("bottom", "suction", 1.0)
     with pytest.raises(ValueError, match="viscosity"):
-        FluidModel(grid=grid, container=cyl, density=1000, viscosity=-1)
+        FluidModel(grid=grid, container=cyl, density=1000, viscosity=-1,
+                   body_acceleration=(0.0, 0.0, -G))
     with pytest.raises(ValueError, match="unknown linear solver"):
         FluidSolver(FluidModel(grid=grid, container=cyl, density=1000, viscosity=1e-3,
-                               pressure_solver="magic"))
-    model = FluidModel(grid=grid, container=cyl, density=1000, viscosity=1e-3)
+                               body_acceleration=(0.0, 0.0, -G), pressure_solver="magic"))
+    model = FluidModel(grid=grid, container=cyl, density=1000, viscosity=1e-3,
+                       body_acceleration=(0.0, 0.0, -G))
     with pytest.raises(ValueError, match="meridian"):
         FluidSolver(model, bowl_surface(0.08, 0.01, 4))
     with pytest.raises(ValueError, match="tank radius"):
