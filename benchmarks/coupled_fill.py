@@ -46,8 +46,8 @@ def run(cells: int, windows: int) -> dict:
                 seconds_per_simulated_second=seconds / float(w["time"][-1]),
                 mean_iterations=float(np.mean(w["coupling_iterations"])),
                 all_converged=bool(np.all(w["converged"])),
-                level_end_pa=float(w["pressure_reference"][-1]),
-                level_start_pa=float(result.attrs["start_pressure_reference"]),
+                level_end_pa=float(w["pressure_level"][-1]),
+                level_start_pa=float(result.attrs["start_pressure_level"]),
                 fluid_volume_departure=float(fluid_change / w["delivered_volume"][-1] - 1.0),
                 membrane_volume_departure=float(
                     (w["liquid_volume"][-1] - result.attrs["start_volume"])

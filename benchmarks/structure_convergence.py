@@ -36,7 +36,7 @@ import numpy as np
 from fsi.build import build
 from fsi.compare import eqn_6_1_error
 from fsi.constants import THESIS_RUNTIME_SECONDS
-from fsi.models import MODEL_TABLE_FILE, STRUCTURE_MODELS
+from fsi.models import MODEL_TABLE_FILE, STRUCTURE_MODELS, hydrostatic_load
 from fsi.scene import parse_scene
 from structure.grid import triangles_from_quads
 from structure.model import MembraneState
@@ -66,7 +66,8 @@ def sweep(model_name: str, grid_size: int) -> dict:
     level = 0.0
     for k, fraction in enumerate(TANK_FRACTIONS):
         tic = time.perf_counter()
-        state, info = model.solve(data, setup, state, fraction * tank, level)
+        state, info = model.solve(data, setup, state,
+                                  hydrostatic_load(setup.liquid, fraction * tank, level))
         if np.isfinite(info.pressure_level):
             level = info.pressure_level
         out["seconds"].append(time.perf_counter() - tic + (prepare if k == 0 else 0.0))

@@ -16,9 +16,9 @@ import numpy as np
 
 from fluid.interface import Interface, is_closed
 from fluid.solver import FluidSolver
+from structure.load import Load
 from structure.model import MembraneState
-from structure.volume import liquid_volume
-from structure.xpbd import XpbdModel, XpbdSettings, advance
+from structure.xpbd import XpbdModel, XpbdSettings, step
 
 POINTS = "interface_points"
 VELOCITIES = "interface_velocities"
@@ -131,7 +131,7 @@ class MembraneSurface:
 
 
 class MembraneParticipant:
-    """An XPBD membrane (:func:`structure.xpbd.advance`) seen by the coupling.
+    """An XPBD membrane (:func:`structure.xpbd.step`) seen by the coupling.
 
     Reads ``interface_pressure`` (n,) Pa at its nodes (liquid side, without the uniform
     level); writes ``interface_points`` and ``interface_velocities`` (3 n,). ``volume(t)`` is
@@ -165,11 +165,10 @@ class MembraneParticipant:
         return self._fields()
 
     def solve_window(self, time: float, dt: float, data_in) -> dict:
-        pressure = np.asarray(data_in[PRESSURE], dtype=float)
-        start = liquid_volume(self.model.base, self.state.node_position)
-        self.state, self.level, _ = advance(self.model, self.state, dt, pressure,
-                                            self._body(time + dt), self.settings,
-                                            (start, float(self.volume(time + dt))))
+        load = Load(np.asarray(data_in[PRESSURE], dtype=float), self._body(time + dt),
+                    volume_target=float(self.volume(time + dt)))
+        self.state, info = step(self.model, self.state, load, dt, self.settings)
+        self.level = info.pressure_level
         return self._fields()
 
     def store_checkpoint(self):

@@ -45,12 +45,11 @@ def cmd_run(args) -> int:
     from .build import build
     from .output import write_result
     from .plots import make_plots
-    from .procedures import PROCEDURES
     from .scene import load_scene
 
     scene = load_scene(args.scene)
     setup = build(scene)  # validates the time step before anything is written
-    procedure = PROCEDURES[scene["scene"]["procedure"]]
+    procedure = setup.procedure
     bar = ProgressBar(scene.name)
     t0 = time.perf_counter()
     try:
@@ -60,7 +59,7 @@ def cmd_run(args) -> int:
     result.attrs["run_seconds"] = time.perf_counter() - t0
     path = write_result(Path(args.out), scene, setup.model, result)
     log.info("wrote %s (%.1f s)", path, result.attrs["run_seconds"])
-    SUMMARIES[scene["scene"]["procedure"]](result)
+    procedure.report(result)
     if not args.no_plots:
         plots = make_plots(args.out)
         log.info("wrote %d plots in %s", len(plots), Path(args.out) / "plots")
@@ -68,44 +67,6 @@ def cmd_run(args) -> int:
         print(f"fsi: error: the run stopped early: {result.attrs['failure']}", file=sys.stderr)
         return 1
     return 0
-
-
-def _print_sweep(result) -> None:
-    a = result.attrs
-    print(f"100 % fill = fully inverted equilibrium at h = {a['full_height']:.4f} m: "
-          f"{a['full_volume']:.6e} m^3 = {a['full_volume'] / a['mirrored_volume']:.4f} of the "
-          f"mirrored rest shape")
-    for name in ("frames", "drain"):
-        if name not in result.groups:
-            continue
-        g = result.groups[name]
-        print(f"[{name}]  target   fill    volume(m^3)   h(m)     strain  max-strain  steps  s")
-        for k in range(len(g["fill_fraction"])):
-            print(f"  {g['target_fill_fraction'][k]:8.3f} {g['fill_fraction'][k]:7.4f} "
-                  f"{g['liquid_volume'][k]:12.6e} {g['pressure_level'][k]:8.4f} "
-                  f"{g['strain_error'][k]:8.5f} {g['strain_max'][k]:8.5f} "
-                  f"{int(g['relaxation_steps'][k]):6d} {g['wall_seconds'][k]:6.2f}")
-
-
-def _print_windows(result) -> None:
-    a = result.attrs
-    w = result.groups.get("windows")
-    print(f"coupled fill: {a['windows_done']} of {a['windows_planned']} windows of "
-          f"{a['window']:g} s, xpbd substep {a['substep']:.3g} s, mean "
-          f"{a['mean_coupling_iterations']:.2f} coupling iterations per window")
-    if w is None:
-        return
-    print("  t(s)     Q(m^3/s)    delivered   membrane dV  fluid dV     level(Pa)  iters")
-    v0, f0 = a["start_volume"], result.groups["frames"]["fluid_liquid_volume"][0]
-    for k in range(len(w["time"])):
-        print(f"  {w['time'][k]:7.4f} {w['port_flow'][k]:11.3e} {w['delivered_volume'][k]:11.3e} "
-              f"{w['liquid_volume'][k] - v0:11.3e} {w['fluid_liquid_volume'][k] - f0:11.3e} "
-              f"{w['pressure_reference'][k]:11.2f} {int(w['coupling_iterations'][k]):5d}")
-
-
-SUMMARIES = {"volume-sweep": _print_sweep, "thesis-ramp": _print_sweep,
-             "coupled-fill": _print_windows}
-"""What ``fsi run`` prints after each procedure."""
 
 
 def cmd_compare(args) -> int:

@@ -25,11 +25,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from structure.grid import boundary_ring
+from structure.load import Equilibrium
 from structure.model import MembraneModel, MembraneState
-from structure.statics import EquilibriumInfo, solve_equilibrium
+from structure.statics import solve_equilibrium
 from structure.volume import FillScale, liquid_volume, mirrored_rest_position
 
 from .build import Setup
+from .models import hydrostatic_load
 
 log = logging.getLogger(__name__)
 
@@ -40,7 +42,7 @@ class FullInversion:
 
     scale: FillScale
     state: MembraneState
-    info: EquilibriumInfo
+    info: Equilibrium
     mirrored_volume: float
 
 
@@ -68,9 +70,9 @@ def full_inversion(setup: Setup) -> FullInversion:
     """Solve the fully inverted equilibrium of ``setup`` and build the fill scale from it."""
     model, liquid = setup.model, setup.liquid
     height = setup.scene["sweep"]["full_height"] * model.radius
-    state, info = solve_equilibrium(model, MembraneState(inverted_start(model)), liquid.pressure,
-                                    liquid.body_acceleration, setup.relaxation,
-                                    pressure_level=liquid.reference_pressure(height))
+    load = hydrostatic_load(liquid, pressure_level=liquid.reference_pressure(height))
+    state, info = solve_equilibrium(model, MembraneState(inverted_start(model)), load,
+                                    setup.relaxation)
     if not info.converged:
         log.warning("full inversion not converged after %d steps (move ratio %.2e): the 100 %% "
                     "volume is approximate", info.steps, info.move_ratio)

@@ -23,34 +23,37 @@ import logging
 import json
 from dataclasses import dataclass, replace
 from importlib import resources
-from typing import Callable
+from typing import Callable, Optional
 
 import numpy as np
 
+from fluid.hydrostatic import HydrostaticLiquid
+from structure.load import Load
 from structure.model import MembraneState
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
 from structure.statics import solve_equilibrium as thesis_solve
 from structure.xpbd import (XpbdDivergence, XpbdModel, XpbdSettings,
                             solve_equilibrium as xpbd_solve)
 
+from .limits import courant_time_step_limit
+
 log = logging.getLogger(__name__)
 
 
-@dataclass
-class Solution:
-    """Outcome of one equilibrium: steps (solver iterations), converged, pressure_level (Pa at
-    the tank centre), liquid_volume (m^3)."""
-
-    steps: int
-    converged: bool
-    pressure_level: float
-    liquid_volume: float
+def hydrostatic_load(liquid: HydrostaticLiquid, volume_target: Optional[float] = None,
+                     pressure_level: float = 0.0) -> Load:
+    """The membrane's :class:`structure.load.Load` under the hydrostatic ``liquid``: the field
+    p = rho b . x, the body acceleration b, the liquid density, and the volume to hold (m^3)
+    or the level to hold (Pa, the starting guess with a volume)."""
+    return Load(liquid.pressure, liquid.body_acceleration, volume_target=volume_target,
+                pressure_level=pressure_level, liquid_density=liquid.density)
 
 
 @dataclass(frozen=True)
 class StructureModel:
-    """prepare(setup) -> solver data, built once per run; solve(data, setup, state,
-    volume_target (m^3), level (Pa, starting guess)) -> (MembraneState, Solution)."""
+    """prepare(setup) -> solver data, built once per run; solve(data, setup, state, load) ->
+    (MembraneState, :class:`structure.load.Equilibrium`), the load's volume target held and
+    its level the starting guess (Pa)."""
 
     name: str
     description: str
@@ -66,12 +69,9 @@ def register_model(model: StructureModel) -> StructureModel:
     return model
 
 
-def _thesis_solve(_, setup, state, volume_target, level):
+def _thesis_solve(_, setup, state, load: Load):
     # the thesis relaxation finds its level by integral action from zero at every fill
-    liquid = setup.liquid
-    state, info = thesis_solve(setup.model, state, liquid.pressure, liquid.body_acceleration,
-                               setup.relaxation, volume_target=volume_target)
-    return state, Solution(info.steps, info.converged, info.pressure_level, info.liquid_volume)
+    return thesis_solve(setup.model, state, replace(load, pressure_level=0.0), setup.relaxation)
 
 
 XPBD_RELAX = XpbdSettings(warm_start=False, tolerance=1e-5, max_steps=20_000)
@@ -79,12 +79,11 @@ XPBD_RELAX = XpbdSettings(warm_start=False, tolerance=1e-5, max_steps=20_000)
 XPBD_POLISH = XpbdSettings(warm_start=True, max_steps=50_000)
 """Warm-started quasi-static substeps: the dt-independent equilibrium where they converge."""
 XPBD_COURANT_FRACTION = 0.3
-"""Substep as a fraction of the explicit limit of the pressure load (fsi.build), per grid."""
+"""Substep as a fraction of the explicit limit of the pressure load (:mod:`fsi.limits`), per
+grid: about 1 % stiffness bias (README); the statics' substep and the dynamics' default."""
 
 
 def _xpbd_dt(setup) -> float:
-    from .build import courant_time_step_limit
-
     return XPBD_COURANT_FRACTION * courant_time_step_limit(setup.model, setup.liquid,
                                                            setup.model.radius)
 
@@ -94,17 +93,14 @@ SHELL_START_STEPS = 3000
 (measured at N = 38: 3.2x faster than relaxing to the XPBD tolerance, every fill converged)."""
 
 
-def _xpbd_relax(model: XpbdModel, setup, state, volume_target, level,
+def _xpbd_relax(model: XpbdModel, setup, state, load: Load,
                 settings: XpbdSettings = XPBD_RELAX):
-    """Damped XPBD to ``volume_target``; the substep is halved (up to three times) when a
-    substep moves a node by more than its length."""
-    liquid = setup.liquid
+    """Damped XPBD to the load's volume target; the substep is halved (up to three times) when
+    a substep moves a node by more than its length."""
     dt = _xpbd_dt(setup)
     for attempt in range(4):
         try:
-            return xpbd_solve(model, state, liquid.pressure, liquid.body_acceleration,
-                              replace(settings, dt=dt), volume_target=volume_target,
-                              pressure_level=level)
+            return xpbd_solve(model, state, load, replace(settings, dt=dt))
         except XpbdDivergence as err:
             if attempt == 3:
                 raise
@@ -112,22 +108,17 @@ def _xpbd_relax(model: XpbdModel, setup, state, volume_target, level,
             dt *= 0.5
 
 
-def _xpbd_solve(model: XpbdModel, setup, state, volume_target, level):
-    relaxed, info = _xpbd_relax(model, setup, state, volume_target, level)
-    steps = info.steps
+def _xpbd_solve(model: XpbdModel, setup, state, load: Load):
+    relaxed, info = _xpbd_relax(model, setup, state, load)
     try:
-        polished, pinfo = xpbd_solve(model, relaxed, setup.liquid.pressure,
-                                     setup.liquid.body_acceleration,
-                                     replace(XPBD_POLISH, dt=_xpbd_dt(setup)),
-                                     volume_target=volume_target,
-                                     pressure_level=info.pressure_level)
+        polished, pinfo = xpbd_solve(model, relaxed,
+                                     replace(load, pressure_level=info.pressure_level),
+                                     replace(XPBD_POLISH, dt=_xpbd_dt(setup)))
     except XpbdDivergence as err:
         log.warning("xpbd: the quasi-static polish diverged (%s); returning the damped "
                     "relaxation, whose in-plane stiffness depends on dt", err)
-        return MembraneState(relaxed.node_position), Solution(steps, False, info.pressure_level,
-                                                              info.liquid_volume)
-    return polished, Solution(steps + pinfo.steps, pinfo.converged, pinfo.pressure_level,
-                              pinfo.liquid_volume)
+        return MembraneState(relaxed.node_position), replace(info, converged=False)
+    return polished, replace(pinfo, steps=info.steps + pinfo.steps)
 
 
 def _shell_prepare(setup):
@@ -137,15 +128,13 @@ def _shell_prepare(setup):
             settings)
 
 
-def _shell_solve(data, setup, state, volume_target, level):
+def _shell_solve(data, setup, state, load: Load):
     xpbd_model, shell_model, settings = data
-    relaxed, info = _xpbd_relax(xpbd_model, setup, state, volume_target, level,
+    relaxed, info = _xpbd_relax(xpbd_model, setup, state, load,
                                 replace(XPBD_RELAX, max_steps=SHELL_START_STEPS))
-    out, sinfo = shell_solve(shell_model, relaxed, setup.liquid.density,
-                             setup.liquid.body_acceleration, settings, volume_target,
-                             info.pressure_level)
-    return out, Solution(info.steps + sinfo.steps, sinfo.converged, sinfo.pressure_level,
-                         sinfo.liquid_volume)
+    out, sinfo = shell_solve(shell_model, relaxed,
+                             replace(load, pressure_level=info.pressure_level), settings)
+    return out, replace(sinfo, steps=info.steps + sinfo.steps)
 
 
 register_model(StructureModel(

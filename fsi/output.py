@@ -9,7 +9,8 @@ Layout of ``result.h5`` (documented in README):
     /<group>/node_position    (n_frames, n_nodes, 3) float64, m
     /<group>/fill_fraction    (n_frames,) -, measured
     /<group>/liquid_volume    (n_frames,) m^3
-    /<group>/pressure_level   (n_frames,) m, equivalent height h = p_ref / (rho |b|)
+    /<group>/pressure_level   (n_frames,) Pa, uniform pressure level p_ref at the tank centre
+    /<group>/equivalent_height (n_frames,) m, equivalent fluid height h = p_ref / (rho |b|)
     /<group>/wall_seconds     (n_frames,) s
     ... and the other per-frame datasets a procedure records (each with a ``units`` attribute).
 
@@ -34,7 +35,7 @@ import numpy as np
 
 UNITS = {
     "node_position": "m", "fill_fraction": "1", "target_fill_fraction": "1",
-    "liquid_volume": "m^3", "pressure_level": "m", "pressure_reference": "Pa",
+    "liquid_volume": "m^3", "pressure_level": "Pa", "equivalent_height": "m",
     "wall_seconds": "s", "relaxation_steps": "1", "converged": "1", "strain_error": "1",
     "strain_max": "1", "time": "s", "node_speed_max": "m/s",
     "node_velocity": "m/s", "interface_pressure": "Pa", "fluid_liquid_volume": "m^3",

@@ -44,34 +44,51 @@ def make_plots(run_dir) -> list[Path]:
         fill = float(frames["fill_fraction"][k])
         tag = f"{100 * float(frames['target_fill_fraction'][k]):05.1f}" \
             if np.isfinite(frames["target_fill_fraction"][k]) else f"{k:03d}"
-        col = _middle_column(pos, n)
-        fig, ax = plt.subplots(figsize=(6, 5))
-        _tank(ax, radius)
-        ax.plot(col[:, 1], col[:, 2], "k-o", ms=2, lw=1.5, label="membrane")
-        ax.set_aspect("equal")
-        ax.set_xlabel("y (m)")
-        ax.set_ylabel("z (m)")
-        ax.set_title(f"Cross section, fill {100 * fill:.1f} %")
-        p = out / f"cross_section_fill_{tag}.png"
-        fig.savefig(p, dpi=90, bbox_inches="tight")
-        plt.close(fig)
-        written.append(p)
+        written.append(_cross_section_plot(pos, n, radius, fill,
+                                           out / f"cross_section_fill_{tag}.png"))
+        written.append(_surface_plot(pos, n, radius, fill, out / f"surface_fill_{tag}.png"))
+    written.append(_cross_sections_plot(res, n, radius, out / "cross_sections.png"))
+    if "windows" in res:
+        written.append(_coupling_plot(res, out))
+    return written
 
-        g = pos.reshape(n, n, 3)
-        fig = plt.figure(figsize=(6, 5))
-        ax3 = fig.add_subplot(projection="3d")
-        ax3.plot_surface(g[..., 0], g[..., 1], g[..., 2], cmap="cool", edgecolor="k",
-                         linewidth=0.1, rstride=1, cstride=1)
-        ax3.set_box_aspect((1, 1, 1))
-        lim = (-radius, radius)
-        ax3.set(xlim=lim, ylim=lim, zlim=lim, xlabel="x (m)", ylabel="y (m)", zlabel="z (m)")
-        ax3.view_init(elev=25, azim=45)
-        ax3.set_title(f"Membrane, fill {100 * fill:.1f} %")
-        p = out / f"surface_fill_{tag}.png"
-        fig.savefig(p, dpi=90, bbox_inches="tight")
-        plt.close(fig)
-        written.append(p)
 
+def _save(fig, path: Path) -> Path:
+    fig.savefig(path, dpi=90, bbox_inches="tight")
+    plt.close(fig)
+    return path
+
+
+def _cross_section_plot(pos, n: int, radius: float, fill: float, path: Path) -> Path:
+    """The middle grid line in the y-z plane with the tank wall (thesis Figs 6.2-6.8)."""
+    col = _middle_column(pos, n)
+    fig, ax = plt.subplots(figsize=(6, 5))
+    _tank(ax, radius)
+    ax.plot(col[:, 1], col[:, 2], "k-o", ms=2, lw=1.5, label="membrane")
+    ax.set_aspect("equal")
+    ax.set_xlabel("y (m)")
+    ax.set_ylabel("z (m)")
+    ax.set_title(f"Cross section, fill {100 * fill:.1f} %")
+    return _save(fig, path)
+
+
+def _surface_plot(pos, n: int, radius: float, fill: float, path: Path) -> Path:
+    """The 3-D membrane surface."""
+    g = pos.reshape(n, n, 3)
+    fig = plt.figure(figsize=(6, 5))
+    ax3 = fig.add_subplot(projection="3d")
+    ax3.plot_surface(g[..., 0], g[..., 1], g[..., 2], cmap="cool", edgecolor="k",
+                     linewidth=0.1, rstride=1, cstride=1)
+    ax3.set_box_aspect((1, 1, 1))
+    lim = (-radius, radius)
+    ax3.set(xlim=lim, ylim=lim, zlim=lim, xlabel="x (m)", ylabel="y (m)", zlabel="z (m)")
+    ax3.view_init(elev=25, azim=45)
+    ax3.set_title(f"Membrane, fill {100 * fill:.1f} %")
+    return _save(fig, path)
+
+
+def _cross_sections_plot(res: dict, n: int, radius: float, path: Path) -> Path:
+    """All cross-sections of the filling and draining groups, side by side."""
     groups = [g for g in ("frames", "drain") if g in res]
     fig, axes = plt.subplots(1, len(groups), figsize=(6 * len(groups), 5), squeeze=False)
     for ax, name in zip(axes[0], groups):
@@ -86,13 +103,7 @@ def make_plots(run_dir) -> list[Path]:
         ax.set_xlabel("y (m)")
         ax.set_ylabel("z (m)")
         ax.legend(fontsize=6, loc="upper right", ncol=2)
-    p = out / "cross_sections.png"
-    fig.savefig(p, dpi=90, bbox_inches="tight")
-    plt.close(fig)
-    written.append(p)
-    if "windows" in res:
-        written.append(_coupling_plot(res, out))
-    return written
+    return _save(fig, path)
 
 
 def _coupling_plot(res: dict, out: Path) -> Path:
@@ -102,7 +113,7 @@ def _coupling_plot(res: dict, out: Path) -> Path:
     fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
     axes[0].plot(t, w["coupling_iterations"], ".-")
     axes[0].set_ylabel("coupling iterations")
-    axes[1].plot(t, w["pressure_reference"], ".-")
+    axes[1].plot(t, w["pressure_level"], ".-")
     axes[1].set_ylabel("pressure level (Pa)")
     v0 = float(res["attrs"]["start_volume"])
     f0 = float(res["frames"]["fluid_liquid_volume"][0])
@@ -114,7 +125,4 @@ def _coupling_plot(res: dict, out: Path) -> Path:
     axes[2].legend(fontsize=8)
     for ax in axes:
         ax.grid(alpha=0.3)
-    p = out / "coupling.png"
-    fig.savefig(p, dpi=90, bbox_inches="tight")
-    plt.close(fig)
-    return p
+    return _save(fig, out / "coupling.png")

@@ -34,6 +34,7 @@ from scipy.optimize import minimize
 from .bending import MidedgeBending
 from .grid import triangles_from_quads
 from .hyperelastic import HyperelasticLaw, SaintVenantKirchhoff, TriangleMembrane
+from .load import Equilibrium, Load
 from .model import MembraneModel, MembraneState
 from .volume import liquid_volume, liquid_volume_gradient, lower_hemisphere_volume
 
@@ -136,19 +137,6 @@ class ShellModel:
         return cls(base, membrane, law, bending)
 
 
-@dataclass
-class ShellInfo:
-    """Outcome: steps (L-BFGS iterations, all inner solves), converged, pressure_level (Pa),
-    liquid_volume (m^3), force_ratio (largest free-node residual force over the pressure
-    force scale, -)."""
-
-    steps: int
-    converged: bool
-    pressure_level: float
-    liquid_volume: float
-    force_ratio: float
-
-
 def _volume(base: MembraneModel, x):
     return liquid_volume(base, x), liquid_volume_gradient(base, x)
 
@@ -179,13 +167,21 @@ def _residual(model: ShellModel, x, level, density, body, s: ShellSettings, forc
     return float(np.abs((g - level * gv)[~base.node_fixed]).max() / force_scale)
 
 
-def solve_equilibrium(model: ShellModel, state: MembraneState, density: float,
-                      body_acceleration, settings: ShellSettings, volume_target: float,
-                      pressure_level: float = 0.0):
-    """Stable equilibrium holding ``volume_target`` (m^3) of liquid of ``density`` (kg/m^3)
-    under ``body_acceleration`` (3,) m/s^2, from ``state``; continuation in ``fill_step``
-    volume increments.  Returns (:class:`MembraneState`, :class:`ShellInfo`)."""
+def solve_equilibrium(model: ShellModel, state: MembraneState, load: Load,
+                      settings: ShellSettings) -> tuple[MembraneState, Equilibrium]:
+    """Stable equilibrium holding ``load.volume_target`` (m^3) of liquid of
+    ``load.liquid_density`` (kg/m^3) under ``load.body_acceleration`` (3,) m/s^2, from
+    ``state``, the level started at ``load.pressure_level`` (Pa); the pressure is the
+    hydrostatic one of that liquid (module doc). Continuation in ``fill_step`` volume
+    increments.  Returns (:class:`MembraneState`, :class:`structure.load.Equilibrium` with
+    the residual force_ratio: the largest free-node residual force of Pi over the pressure
+    force scale)."""
+    if load.volume_target is None or load.liquid_density is None:
+        raise ValueError("the shell model needs a volume target and the liquid density "
+                         "(load.volume_target, load.liquid_density)")
     s = settings
+    density, body_acceleration = load.liquid_density, load.body_acceleration
+    volume_target, pressure_level = load.volume_target, load.pressure_level
     base = model.base
     body = np.asarray(body_acceleration, dtype=float)
     free = ~base.node_fixed
@@ -237,4 +233,4 @@ def solve_equilibrium(model: ShellModel, state: MembraneState, density: float,
     v, _ = _volume(base, x)
     converged = (ratio <= 10 * s.gradient_tolerance
                  and abs(v - volume_target) <= s.volume_tolerance * tank)
-    return MembraneState(x), ShellInfo(steps, converged, level, float(v), ratio)
+    return MembraneState(x), Equilibrium(steps, converged, level, float(v), force_ratio=ratio)

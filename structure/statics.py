@@ -56,18 +56,15 @@ is reported.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Optional
 
 import numpy as np
 
 from .kernels import (limit_bending, limit_in_plane_strain, project_volume_masked,
                       self_collision, wall_collision)
+from .load import Equilibrium, Load
 from .model import MembraneModel, MembraneState
-from .thesis import ConstraintSettings, CourantError, external_force
+from .thesis import ConstraintSettings, CourantError, node_force
 from .volume import liquid_volume, liquid_volume_gradient, lower_hemisphere_volume
-
-PressureField = Callable[[np.ndarray], np.ndarray]
-"""Pressure (n,) Pa on the liquid side at node positions (n, 3) m, excluding the uniform level."""
 
 _NEWTON_ITERATIONS = 3
 """Newton steps of each volume projection (the volume is cubic in a uniform move)."""
@@ -137,37 +134,20 @@ class RelaxationSettings:
             raise ValueError(f"strain_passes must be >= 1, got {self.strain_passes!r}")
 
 
-@dataclass
-class EquilibriumInfo:
-    """Outcome of one solve.
+def solve_equilibrium(model: MembraneModel, state: MembraneState, load: Load,
+                      settings: RelaxationSettings) -> tuple[MembraneState, Equilibrium]:
+    """Relax ``state`` to equilibrium under ``load``: node pressure p(x) + the level.
 
-    steps : pseudo-steps taken; converged : see module doc; move_ratio : final max move per step
-    over node size (-); pressure_level : uniform level (Pa) added to the pressure field, NaN when
-    the wall alone fixes the volume; liquid_volume (m^3); strain_error : thesis error
-    sum |L - L0| / sum L0 (-); strain_max : largest single-spring |L - L0| / L0 (-).
-    """
-
-    steps: int
-    converged: bool
-    move_ratio: float
-    pressure_level: float
-    liquid_volume: float
-    strain_error: float
-    strain_max: float = float("nan")
-
-
-def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: PressureField,
-                      body_acceleration, settings: RelaxationSettings,
-                      volume_target: Optional[float] = None,
-                      pressure_level: float = 0.0) -> tuple[MembraneState, EquilibriumInfo]:
-    """Relax ``state`` to equilibrium under ``pressure(x) + pressure_level``.
-
-    With ``volume_target`` (m^3) the liquid volume is constrained (ramped from the start volume
-    at ``settings.ramp_rate``) and the uniform level (Pa) is solved for, starting from
-    ``pressure_level``; without it the level is held at ``pressure_level``. Returns the new
-    state (velocities zero) and an :class:`EquilibriumInfo`.
+    With ``load.volume_target`` (m^3) the liquid volume is constrained (ramped from the start
+    volume at ``settings.ramp_rate``) and the uniform level (Pa) is solved for, starting from
+    ``load.pressure_level``; without it the level is held at ``load.pressure_level``. Returns
+    the new state (velocities zero) and an :class:`structure.load.Equilibrium` (its
+    pressure_level NaN when the wall alone fixes the volume; move_ratio, strain_error and
+    strain_max measured).
     """
     s, cs = settings, settings.constraints
+    pressure, body_acceleration = load.pressure, load.body_acceleration
+    volume_target, pressure_level = load.volume_target, load.pressure_level
     x = state.node_position.copy()
     inv_mass = model.node_inv_mass
     # exactly ``strain_passes`` passes: App. G's stopping rule (error below the limit) would
@@ -204,8 +184,8 @@ def solve_equilibrium(model: MembraneModel, state: MembraneState, pressure: Pres
     if volume_target is not None and abs(volume - volume_target) > volume_slack:
         converged = False
     mean, worst = strain_error(model, x)
-    info = EquilibriumInfo(steps, converged, move, level if determined else float("nan"),
-                           volume, mean, worst)
+    info = Equilibrium(steps, converged, level if determined else float("nan"), volume,
+                       move_ratio=move, strain_error=mean, strain_max=worst)
     return MembraneState(x, np.zeros_like(x)), info
 
 
@@ -225,8 +205,8 @@ def _relax_stage(model, x, pressure, body_acceleration, s, strain_args, volume_t
     steps = first_step
     for steps in range(first_step + 1, first_step + s.max_steps + 1):
         node_pressure = pressure(x) + level
-        force = external_force(model, x, node_pressure, body_acceleration,
-                               s.offset_limited_bending)
+        force = node_force(model, x, node_pressure, body_acceleration,
+                           s.offset_limited_bending)
         v = (1.0 - s.damping) * v + dt * inv_mass[:, None] * force
         x_old = x
         x = x + dt * v

@@ -25,6 +25,7 @@ import numpy as np
 
 from .kernels import (bending_force, limit_bending, limit_in_plane_strain,
                       node_area_and_normal, self_collision, wall_collision)
+from .load import Load, StepInfo, external_force
 from .model import MembraneModel, MembraneState
 
 DAMPING_MODES = ("none", "critical", "courant-drag")
@@ -80,13 +81,14 @@ def apply_constraints(model: MembraneModel, pos: np.ndarray, cs: ConstraintSetti
     return error
 
 
-def external_force(model: MembraneModel, pos: np.ndarray, node_pressure: np.ndarray,
-                   body_acceleration, offset_limited_bending: bool = False) -> np.ndarray:
-    """Pressure + gravity + bending forces (n, 3) N on the current shape (Eqn 4.6 less
-    damping); ``offset_limited_bending`` see :func:`structure.kernels.bending_force`."""
+def node_force(model: MembraneModel, pos: np.ndarray, node_pressure: np.ndarray,
+               body_acceleration, offset_limited_bending: bool = False) -> np.ndarray:
+    """Pressure + gravity (:func:`structure.load.external_force` on the App. D areas and
+    normals) + bending forces (n, 3) N on the current shape (Eqn 4.6 less damping);
+    ``offset_limited_bending`` see :func:`structure.kernels.bending_force`."""
     area, normal = node_area_and_normal(pos, model.grid_size, model.normal_sign)
-    force = (area * node_pressure)[:, None] * normal + model.node_free_mass[:, None] * \
-        np.asarray(body_acceleration, dtype=float)[None, :]
+    force = external_force(node_pressure, normal, model.node_free_mass, body_acceleration,
+                           node_area=area)
     bending_force(pos, normal, model.bend_nodes, model.bend_rest_length, model.bend_stiffness,
                   force, offset_limited_bending)
     return force
@@ -96,11 +98,10 @@ def external_force(model: MembraneModel, pos: np.ndarray, node_pressure: np.ndar
 class ThesisSettings:
     """Settings of the thesis stepper (App. B names in brackets).
 
-    dt : time step (s) [dt]; steady_state : reset acceleration each step [SteadyState];
-    damping : one of DAMPING_MODES; constraints : :class:`ConstraintSettings`.
+    steady_state : reset acceleration each step [SteadyState]; damping : one of DAMPING_MODES;
+    constraints : :class:`ConstraintSettings`. The time step [dt] is the stepper's argument.
     """
 
-    dt: float = 1e-4
     steady_state: bool = True
     damping: str = "courant-drag"
     constraints: ConstraintSettings = field(default_factory=ConstraintSettings)
@@ -108,8 +109,6 @@ class ThesisSettings:
     def __post_init__(self):
         if self.damping not in DAMPING_MODES:
             raise ValueError(f"damping must be one of {DAMPING_MODES}, got {self.damping!r}")
-        if not self.dt > 0:
-            raise ValueError(f"dt must be > 0 s, got {self.dt!r}")
 
 
 @dataclass
@@ -143,14 +142,21 @@ def node_bending_stiffness(model: MembraneModel) -> np.ndarray:
     return k
 
 
-def step(model: MembraneModel, state: ThesisState, node_pressure: np.ndarray,
-         body_acceleration, settings: ThesisSettings) -> ThesisState:
-    """Advance ``state`` by one thesis step under nodal pressure ``node_pressure`` (n,) Pa
-    (liquid side, gauge) and body acceleration (3,) m/s^2; returns the new state."""
-    dt = settings.dt
+def step(model: MembraneModel, state: ThesisState, load: Load, dt: float,
+         settings: ThesisSettings) -> tuple[ThesisState, StepInfo]:
+    """Advance ``state`` by one thesis step of ``dt`` (s) under ``load``: its node pressure
+    (liquid side, gauge) plus its held ``pressure_level`` (Pa), and its body acceleration
+    (3,) m/s^2 (the thesis stepper holds no volume). Returns the new state and its
+    :class:`structure.load.StepInfo`."""
+    if load.volume_target is not None:
+        raise ValueError("the thesis stepper holds a pressure level, not a volume: "
+                         "load.volume_target must be None")
+    if not dt > 0:
+        raise ValueError(f"dt must be > 0 s, got {dt!r}")
     x = state.node_position.copy()
     v = state.node_velocity.copy()
-    force = external_force(model, x, node_pressure, body_acceleration)
+    node_pressure = load.pressure(x) + load.pressure_level
+    force = node_force(model, x, node_pressure, load.body_acceleration)
     if settings.steady_state:
         acc = np.zeros_like(x)
         prev_x, prev_v = state.previous_position, state.previous_velocity
@@ -177,4 +183,4 @@ def step(model: MembraneModel, state: ThesisState, node_pressure: np.ndarray,
             f"{model.node_length_scale[worst]:.3g} m): reduce dt (thesis Eqn 4.7)")
     apply_constraints(model, x, settings.constraints)
     damping = courant if settings.damping == "courant-drag" else state.node_damping
-    return ThesisState(x, v, prev_x, prev_v, damping)
+    return ThesisState(x, v, prev_x, prev_v, damping), StepInfo(1, load.pressure_level)

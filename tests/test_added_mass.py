@@ -1,6 +1,6 @@
 """The added-mass model problem of Causin, Gerbeau & Nobile (2005), "Added-mass effect in the
 design of partitioned algorithms for fluid-structure problems", CMAME 194, 4506-4527, driven
-through the coupling library (benchmarks/added_mass.py).
+through the coupling library (cases/added_mass.py).
 
 An elastic wall (mass per area rho_s h, kg/m^2; stiffness k, Pa/m) on an inviscid incompressible
 channel whose added-mass eigenvalues are mu_i = L / (i pi tanh(i pi R / L)) (m). Checks:
@@ -9,14 +9,10 @@ rho_f mu_max) (measured within 10 %); the explicit scheme (backward Euler, lagge
 diverges iff q = rho_f mu_max / (rho_s h) > 1 + k dt^2 / (4 rho_s h); Aitken and IQN-ILS converge
 at the largest mass ratio, to the monolithic solution.
 """
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import added_mass as am  # noqa: E402
+from cases import added_mass as am
 
 PROBLEM = am.Problem()
 

@@ -1,4 +1,4 @@
-"""Elastic tube 1D (benchmarks/elastic_tube.py) through the coupling library.
+"""Elastic tube 1D (cases/elastic_tube.py) through the coupling library.
 
 The case of Degroote, Bruggeman, Haelterman & Vierendeels (2008), "Stability of a coupling
 technique for partitioned solvers in FSI applications", Comput. Struct. 86, 2224-2234, as the
@@ -15,17 +15,13 @@ benchmark's IQN-ILS setup (solid first, pressure accelerated, second-order extra
 windows reused, QR2 filter 1e-2) agrees with the monolithic Newton solution to 1e-4 relative on
 both, needs fewer iterations than preCICE on both, and meets the goal of at most 4.0 on the
 discretisation preCICE's 3.9 was measured on. On the published discretisation it needs 5.11;
-that goal is kept there as a strict expected failure (see the benchmark's docstring: even the
+that goal is kept there as a strict expected failure (see the case's docstring: even the
 exact interface Jacobian of the previous window needs 3.99).
 """
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import elastic_tube as et  # noqa: E402
+from cases import elastic_tube as et
 
 GOAL_MEAN_ITERATIONS = 4.0
 
@@ -102,7 +98,7 @@ def test_iqn_ils_meets_the_goal_on_the_discretisation_of_precice_s_figure():
 
 
 @pytest.mark.xfail(strict=True, reason="IQN-ILS averages 5.11 on the published discretisation; "
-                                       "see benchmarks/elastic_tube.py")
+                                       "see cases/elastic_tube.py")
 def test_iqn_ils_meets_the_goal_on_the_published_discretisation():
     out = et.couple(et.coupling_settings("iqn-ils"))
     assert out.mean_iterations <= GOAL_MEAN_ITERATIONS

@@ -1,14 +1,10 @@
-"""Grid locking benchmark (benchmarks/grid_locking.py): the thesis stepper locks a coarse grid
+"""Grid locking (cases/grid_locking.py): the thesis stepper locks a coarse grid
 at a tight strain limit and inverts it at a loose one; Courant failures are recorded, not raised;
 the locked/inverted classification."""
-import sys
-from pathlib import Path
-
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import grid_locking as gl  # noqa: E402
-from structure.thesis import CourantError  # noqa: E402
+from cases import grid_locking as gl
+from structure.thesis import CourantError
 
 
 def test_coarse_grid_locks_at_tight_limit_and_inverts_at_loose():

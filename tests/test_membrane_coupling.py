@@ -1,4 +1,4 @@
-"""The diaphragm coupled to the immersed-boundary liquid: XPBD membrane (structure.xpbd.advance)
+"""The diaphragm coupled to the immersed-boundary liquid: XPBD membrane (structure.xpbd.step)
 and FiPy fluid (fluid.solver) through the coupling library, serial-implicit with IQN-ILS, the
 membrane holding the liquid volume the port delivers (its multiplier is the pressure level).
 
@@ -15,12 +15,13 @@ from coupling import AccelerationSettings, ConvergenceMeasure, CouplingSettings,
 from fluid.hydrostatic import HydrostaticLiquid
 from fluid.model import Port
 from fluid.solver import FluidSolver
-from fluid.validation import sphere_model, tank_grid
+from fluid.tank import sphere_model, tank_grid
 from fsi.adapters import (POINTS, PRESSURE, FluidParticipant, MembraneParticipant,
                           MembraneSurface)
-from fsi.build import courant_time_step_limit
+from fsi.limits import courant_time_step_limit
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
                            STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
+from structure.load import Load
 from structure.model import Material, MembraneState, hemisphere_model
 from structure.volume import liquid_volume, lower_hemisphere_volume
 from structure.xpbd import XpbdModel, XpbdSettings, solve_equilibrium
@@ -40,8 +41,9 @@ def half_full():
     substep = WINDOW / np.ceil(WINDOW / limit)  # a whole number of substeps per window
     settings = XpbdSettings(dt=substep, warm_start=False, tolerance=1e-6, max_steps=40_000)
     state, info = solve_equilibrium(model, MembraneState(base.node_rest_position),
-                                    liquid.pressure, GRAVITY, settings,
-                                    volume_target=lower_hemisphere_volume(TANK_RADIUS))
+                                    Load(liquid.pressure, GRAVITY,
+                                         volume_target=lower_hemisphere_volume(TANK_RADIUS)),
+                                    settings)
     assert info.converged
     return model, settings, state, info.pressure_level
 

@@ -18,6 +18,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from structure.load import Load
 from structure.model import Material, MembraneState, disc_model
 from structure.statics import RelaxationSettings, solve_equilibrium
 
@@ -30,7 +31,8 @@ def _centre_deflection(model, q, settings, max_rounds=12):
     state = MembraneState(model.node_rest_position)
     w_old = 0.0
     for _ in range(max_rounds):
-        state, _ = solve_equilibrium(model, state, lambda x: np.full(len(x), q), (0.0, 0.0, 0.0),
+        state, _ = solve_equilibrium(model, state,
+                                     Load(lambda x: np.full(len(x), q), (0.0, 0.0, 0.0)),
                                      settings)
         w = state.node_position[centre, 2]
         if abs(w - w_old) <= 1e-4 * abs(w):

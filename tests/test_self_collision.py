@@ -11,6 +11,7 @@ from scipy.spatial import cKDTree
 from fsi.build import build
 from fsi.fill import full_inversion
 from fsi.scene import parse_scene
+from structure.load import Load
 from structure.model import MembraneState
 from structure.statics import solve_equilibrium
 
@@ -25,8 +26,8 @@ def _closest_non_neighbours(self_collision: bool) -> float:
     model = setup.model
     target = float(full_inversion(setup).scale.volume(0.5))
     state, info = solve_equilibrium(model, MembraneState(model.node_rest_position),
-                                    setup.liquid.pressure, setup.liquid.body_acceleration,
-                                    setup.relaxation, volume_target=target)
+                                    Load(setup.liquid.pressure, setup.liquid.body_acceleration,
+                                         volume_target=target), setup.relaxation)
     assert info.converged
     x = state.node_position
     d = BUFFER * model.min_rest_edge

@@ -13,6 +13,7 @@ from fsi.build import build
 from fsi.models import STRUCTURE_MODELS
 from fsi.scene import parse_scene
 from structure.grid import triangles_from_quads
+from structure.load import Load
 from structure.model import MembraneState
 from structure.shell import ShellModel, ShellSettings, first_moment, solve_equilibrium
 
@@ -60,9 +61,10 @@ def test_equilibrium_holds_the_volume_and_balances_forces(setup, law):
     settings = ShellSettings(law=law)
     model = ShellModel.from_membrane(setup.model, settings)
     tank = 4.0 / 3.0 * np.pi * setup.model.radius**3
-    state, info = solve_equilibrium(model, MembraneState(setup.model.node_rest_position),
-                                    setup.liquid.density, setup.liquid.body_acceleration,
-                                    settings, 0.3 * tank)
+    load = Load(setup.liquid.pressure, setup.liquid.body_acceleration, volume_target=0.3 * tank,
+                liquid_density=setup.liquid.density)
+    state, info = solve_equilibrium(model, MembraneState(setup.model.node_rest_position), load,
+                                    settings)
     assert info.converged
     assert info.liquid_volume == pytest.approx(0.3 * tank, rel=1e-5)
     assert info.force_ratio < 1e-3

@@ -4,19 +4,20 @@ import pytest
 
 from fluid.hydrostatic import HydrostaticLiquid
 from fsi.constants import TANK_RADIUS as R
+from structure.load import Load
 from structure.statics import strain_error
 from structure.thesis import CourantError, ThesisSettings, ThesisState, step
 
 G = (0.0, 0.0, -9.81)
 
 
-def _ramp(model, settings, n_steps):
+def _ramp(model, settings, n_steps, dt=1e-4):
     liq = HydrostaticLiquid(1000.0, G)
     state = ThesisState(model.node_rest_position)
     for k in range(1, n_steps + 1):
         h = -1.05 * R + 2.1 * R * k / n_steps
-        state = step(model, state, liq.pressure(state.node_position, liq.reference_pressure(h)),
-                     G, settings)
+        load = Load(liq.pressure(state.node_position, liq.reference_pressure(h)), G)
+        state, _ = step(model, state, load, dt, settings)
         yield state
 
 
@@ -33,7 +34,7 @@ def test_strain_limit_and_fixed_rim_hold_every_step(model10):
 
 def test_courant_violation_raises(model10):
     with pytest.raises(CourantError, match="Courant number"):
-        for _ in _ramp(model10, ThesisSettings(dt=0.05), 50):
+        for _ in _ramp(model10, ThesisSettings(), 50, dt=0.05):
             pass
 
 

@@ -1,14 +1,10 @@
 """The incompressibility dilemma (Kuettler, Foerster & Wall 2006) on a liquid column with
 prescribed inflow closed by an elastic lid: the volume constraint on the structure side makes
-plain Gauss-Seidel converge where it diverges without it (benchmarks/volume_constraint.py)."""
-import sys
-from pathlib import Path
-
+plain Gauss-Seidel converge where it diverges without it (cases/volume_constraint.py)."""
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import volume_constraint as vc  # noqa: E402
+from cases import volume_constraint as vc
 
 
 def test_constrained_lid_returns_the_level_of_the_monolithic_solution():

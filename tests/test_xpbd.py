@@ -15,7 +15,8 @@ from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS
 from structure.grid import triangles_from_quads
 from structure.model import Material, MembraneState, disc_model
 from structure.volume import liquid_volume
-from structure.xpbd import XpbdModel, XpbdSettings, advance, solve_equilibrium
+from structure.load import Load
+from structure.xpbd import XpbdModel, XpbdSettings, solve_equilibrium, step
 
 Q = 100.0  # Pa: w0 = 15 mm, about 8 membrane thicknesses (membrane regime)
 GRID = 14
@@ -32,8 +33,8 @@ def _inflate(model, dt, warm_start):
     base = model.base
     settings = XpbdSettings(dt=dt, warm_start=warm_start, tolerance=1e-7)
     state, info = solve_equilibrium(model, MembraneState(base.node_rest_position),
-                                    lambda x: np.zeros(len(x)), (0.0, 0.0, 0.0), settings,
-                                    pressure_level=Q)
+                                    Load(lambda x: np.zeros(len(x)), (0.0, 0.0, 0.0),
+                                         pressure_level=Q), settings)
     assert info.converged
     return state.node_position
 
@@ -85,26 +86,28 @@ def half_full():
     liquid = HydrostaticLiquid(WATER_DENSITY, (0.0, 0.0, -STANDARD_GRAVITY))
     settings = XpbdSettings(dt=5e-4, warm_start=False, tolerance=1e-7, max_steps=40_000)
     state, info = solve_equilibrium(model, MembraneState(model.base.node_rest_position),
-                                    liquid.pressure, liquid.body_acceleration, settings,
-                                    volume_target=lower_hemisphere_volume(TANK_RADIUS))
+                                    Load(liquid.pressure, liquid.body_acceleration,
+                                         volume_target=lower_hemisphere_volume(TANK_RADIUS)),
+                                    settings)
     assert info.converged
     return model, liquid, settings, state, info.pressure_level
 
 
-def test_window_advance_holds_an_equilibrium_and_returns_its_level(half_full):
+def test_window_step_holds_an_equilibrium_and_returns_its_level(half_full):
     """An equilibrium is a fixed point of the dynamic window stepper, and the multiplier of
     the volume held there is the static pressure level."""
     model, liquid, settings, state, level = half_full
     x = state.node_position
     volume = liquid_volume(model.base, x)
-    out, window_level, n_sub = advance(model, state, 4 * settings.dt, liquid.pressure(x),
-                                       liquid.body_acceleration, settings, (volume, volume))
+    out, info = step(model, state, Load(liquid.pressure(x), liquid.body_acceleration,
+                                        volume_target=volume), 4 * settings.dt, settings)
+    window_level, n_sub = info.pressure_level, info.substeps
     assert n_sub == 4
     assert np.abs(out.node_position - x).max() < 1e-6  # m, against ~0.1 m of deflection
     assert window_level == pytest.approx(level, rel=0.01)
 
 
-def test_window_advance_composes_and_follows_the_volume_line(half_full):
+def test_window_step_composes_and_follows_the_volume_line(half_full):
     """Two windows of one substep are one window of two substeps (the state carries the
     velocities), and the liquid volume ends on the prescribed value (to the accuracy of the
     one linearised volume projection per substep)."""
@@ -114,13 +117,14 @@ def test_window_advance_composes_and_follows_the_volume_line(half_full):
     g = liquid.body_acceleration
     v0 = liquid_volume(model.base, x)
     dv = 1e-4 * v0
-    one, _, n_one = advance(model, state, 2 * settings.dt, p, g, settings, (v0, v0 + dv))
-    half, _, _ = advance(model, state, settings.dt, p, g, settings, (v0, v0 + dv / 2))
-    two, _, _ = advance(model, half, settings.dt, p, g, settings, (v0 + dv / 2, v0 + dv))
-    assert n_one == 2
+    one, info_one = step(model, state, Load(p, g, volume_target=v0 + dv), 2 * settings.dt,
+                         settings)
+    half, _ = step(model, state, Load(p, g, volume_target=v0 + dv / 2), settings.dt, settings)
+    two, _ = step(model, half, Load(p, g, volume_target=v0 + dv), settings.dt, settings)
+    assert info_one.substeps == 2
     assert np.abs(one.node_position - two.node_position).max() < 1e-12
     assert np.abs(one.node_velocity - two.node_velocity).max() < 1e-9
     # one linearised projection per substep: on the line to a small part of the step
     assert abs(liquid_volume(model.base, one.node_position) - (v0 + dv)) < 0.01 * dv
     with pytest.raises(ValueError, match="duration"):
-        advance(model, state, 0.0, p, g, settings)
+        step(model, state, Load(p, g), 0.0, settings)

@@ -1,0 +1,164 @@
+"""What the coupled procedures share: the ``[dynamics]``, ``[port]``, ``[fluid]``,
+``[coupling]`` and ``[motion]`` tables, the coupling settings they map onto, the XPBD substep
+of a window, and the port's setup check."""
+from __future__ import annotations
+
+import numpy as np
+
+from coupling import (ACCELERATIONS, EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES,
+                      AccelerationSettings, ConvergenceMeasure, CouplingSettings)
+from fluid.tank import tank_spacing
+
+from ..adapters import POINTS, PRESSURE
+from ..limits import courant_time_step_limit
+from ..models import XPBD_COURANT_FRACTION
+from ..motion import MOTIONS
+from ..registry import Key, SceneError, Table, is_vec3, one_of, positive, short_number
+
+
+def _history(v):
+    """Rows [t, ax, ay, az] of finite numbers, times strictly increasing."""
+    if not isinstance(v, list) or not all(isinstance(r, list) and len(r) == 4 and is_vec3(r[1:])
+                                          and is_vec3(r[:3]) for r in v):
+        return False
+    times = [r[0] for r in v]
+    return all(b > a for a, b in zip(times, times[1:]))
+
+
+MAX_WINDOWS = 1e6
+"""Coupling windows of one run at most (end_time / window)."""
+
+
+def _check_dynamics(dyn: dict) -> None:
+    windows = dyn["end_time"] / dyn["window"]
+    if windows > MAX_WINDOWS:
+        raise SceneError(f"scene key 'dynamics.window' = {dyn['window']!r}: end_time/window = "
+                         f"{windows:.3g} windows; allowed at most {short_number(MAX_WINDOWS)}")
+
+
+def _check_motion(motion: dict) -> None:
+    if motion["kind"] == "table" and len(motion["history"]) < 2:
+        raise SceneError(f"scene key 'motion.history' = {motion['history']!r}: motion.kind = "
+                         f"'table' needs at least two rows [t, ax, ay, az]")
+
+
+DYNAMICS = Table({
+    "start_fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
+                      "fill at t = 0, on the mirrored scale (liquid volume over the mirrored "
+                      "hemisphere's), static equilibrium"),
+    "window": Key(float, 2e-3, lambda v: 0 < v <= 1, "0 < value <= 1 s",
+                  "coupling time window (s)"),
+    "end_time": Key(float, 0.2, positive, "> 0 s", "simulated time (s)"),
+    "frame_interval": Key(int, 5, lambda v: v >= 1, ">= 1",
+                          "windows between recorded frames"),
+    "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,
+                            "0 < value <= 1", "XPBD substep / explicit limit of the load "
+                            "(0.3: about 1 % stiffness bias, README)"),
+}, _check_dynamics)
+"""[dynamics]: start, windows and frames of a coupled run."""
+
+MOTION = Table({
+    "kind": Key(str, "none", *one_of(sorted(MOTIONS)),
+                "tank acceleration a(t); the liquid feels liquid.body_acceleration - a(t) "
+                "(README, 'Tank motion')"),
+    "amplitude": Key(list, [0.0, 0.0, 0.0], is_vec3, "three finite numbers (m/s^2)",
+                     "sine: a = amplitude sin(2 pi frequency t) (m/s^2)"),
+    "frequency": Key(float, 1.0, lambda v: v >= 0, ">= 0 Hz", "sine: frequency (Hz)"),
+    "history": Key(list, [], _history, "rows [t, ax, ay, az], times increasing (s, m/s^2)",
+                   "table: a(t) piecewise linear through the rows, held outside them"),
+}, _check_motion)
+"""[motion]: the tank's acceleration (:mod:`fsi.motion`)."""
+
+PORT = {
+    "flow": Key(float, 5e-4, lambda v: abs(v) <= 1.0, "-1..1 m^3/s",
+                "volume flow into the liquid through the bottom port (m^3/s; negative drains)"),
+    "radius": Key(float, 0.06, lambda v: 0 < v < 1, "0 < value < 1 m, at least 1.5 cells of "
+                  "the fluid grid", "radius of the port stub below the bottom pole (m)"),
+    "length": Key(float, 0.065, lambda v: 0 < v < 1, "0 < value < 1 m, at least 2 cells of "
+                  "the fluid grid", "length of the port stub below the bottom pole, where the "
+                  "flow enters (m)"),
+    "ramp_time": Key(float, 0.1, positive, "> 0 s",
+                     "the flow rises linearly from 0 over this time (s); a valve opens in "
+                     "finite time, an impulsive start has no solution"),
+}
+"""[port]: the bottom port and its stub."""
+
+FLUID = {
+    "cells": Key(int, 16, lambda v: 8 <= v <= 128, "8..128",
+                 "cells per axis of the 3-D grid over the tank"),
+    "viscosity": Key(float, 1e-3, lambda v: v >= 0, ">= 0 Pa s",
+                     "dynamic viscosity of the liquid (Pa s)"),
+}
+"""[fluid]: the immersed-boundary liquid (:mod:`fluid`)."""
+
+COUPLING = {
+    "scheme": Key(str, "implicit-serial", *one_of(sorted(SCHEMES)),
+                  "coupling scheme (membrane first, liquid second)"),
+    "acceleration": Key(str, "iqn-ils", *one_of(sorted(ACCELERATIONS)),
+                        "acceleration of the interface pressure"),
+    "relaxation": Key(float, 0.01, lambda v: 0 < v <= 1, "0 < value <= 1",
+                      "constant under-relaxation factor"),
+    "initial_relaxation": Key(float, 0.01, lambda v: 0 < v <= 1, "0 < value <= 1",
+                              "Aitken's first factor of a window, IQN's first step"),
+    "reuse": Key(int, 8, lambda v: 0 <= v <= 100, "0..100", "IQN past windows reused"),
+    "filter_limit": Key(float, 1e-2, lambda v: 0 < v < 1, "0 < value < 1", "IQN QR2 filter"),
+    "max_columns": Key(int, 100, lambda v: v >= 1, ">= 1", "IQN secant columns at most"),
+    "pressure_tolerance": Key(float, 1e-4, lambda v: 0 < v < 1, "0 < value < 1",
+                              "relative change of the interface pressure per iteration at "
+                              "convergence"),
+    "position_tolerance": Key(float, 1e-6, lambda v: 0 < v < 1, "0 < value < 1",
+                              "relative change of the node positions per iteration at "
+                              "convergence"),
+    "max_iterations": Key(int, 60, lambda v: 1 <= v <= 10_000, "1..10000",
+                          "coupling iterations per window at most"),
+    "on_max_iterations": Key(str, "error", *one_of(ON_MAX_ITERATIONS),
+                             "stop with an error, or accept the window and log it"),
+    "extrapolation_order": Key(int, 0, *one_of(sorted(EXTRAPOLATION_WEIGHTS)),
+                               "prediction of a window's start from past windows"),
+}
+"""[coupling]: every knob of :class:`coupling.CouplingSettings`."""
+
+COUPLED_TABLES = {"dynamics": DYNAMICS, "motion": MOTION, "port": PORT, "fluid": FLUID,
+                  "coupling": COUPLING}
+
+def coupling_settings(c: dict) -> CouplingSettings:
+    """:class:`coupling.CouplingSettings` from the scene's ``[coupling]`` table."""
+    return CouplingSettings(
+        scheme=c["scheme"], acceleration=c["acceleration"],
+        acceleration_settings=AccelerationSettings(
+            relaxation=c["relaxation"], initial_relaxation=c["initial_relaxation"],
+            reuse=c["reuse"], filter_limit=c["filter_limit"], max_columns=c["max_columns"]),
+        measures=[ConvergenceMeasure(PRESSURE, "relative", c["pressure_tolerance"]),
+                  ConvergenceMeasure(POINTS, "relative", c["position_tolerance"])],
+        max_iterations=c["max_iterations"], on_max_iterations=c["on_max_iterations"],
+        extrapolation_order=c["extrapolation_order"])
+
+
+def window_substep(setup) -> float:
+    """XPBD substep (s): the window cut into equal substeps no longer than
+    ``substep_fraction`` of the explicit limit of the largest hydrostatic load."""
+    dyn = setup.scene["dynamics"]
+    limit = dyn["substep_fraction"] * courant_time_step_limit(setup.model, setup.liquid,
+                                                              setup.model.radius)
+    return dyn["window"] / np.ceil(dyn["window"] / limit)
+
+
+PORT_MIN_CELLS = {"radius": 1.5, "length": 2.0}
+"""The port stub must span this many fluid cells in radius and in length to carry its flow."""
+
+
+def check_port(setup) -> None:
+    """The port stub spans :data:`PORT_MIN_CELLS` fluid cells and is narrower than the tank."""
+    scene = setup.scene
+    h = tank_spacing(scene["tank"]["radius"], scene["fluid"]["cells"], axisymmetric=False)
+    for key, cells in PORT_MIN_CELLS.items():
+        value = scene["port"][key]
+        if value < cells * h:
+            raise SceneError(f"scene key 'port.{key}' = {value!r} m is under {cells} cells of the "
+                             f"fluid grid (cell {h:.4g} m at fluid.cells = "
+                             f"{scene['fluid']['cells']}); allowed {cells * h:.4g} m and up, "
+                             f"or more fluid cells")
+    radius = scene["port"]["radius"]
+    if radius >= scene["tank"]["radius"]:
+        raise SceneError(f"scene key 'port.radius' = {radius!r} m: allowed below the tank "
+                         f"radius {scene['tank']['radius']!r} m")

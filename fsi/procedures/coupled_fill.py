@@ -1,0 +1,224 @@
+"""``coupled-fill``: the diaphragm filled (or drained) through the bottom port, the membrane
+and the liquid's flow coupled in time.
+
+* Start: the membrane's static equilibrium at ``dynamics.start_fill`` under the hydrostatic
+  model (XPBD relaxation with the same substep as the dynamics, so the start is at rest).
+* Structure: XPBD windows (:func:`structure.xpbd.step`, plain substeps of
+  ``dynamics.substep_fraction`` of the explicit limit), the liquid volume held at what the
+  port has delivered; the multiplier of that volume is the uniform pressure level
+  (incompressibility dilemma, :mod:`fsi.adapters`).
+* Fluid: incompressible Navier-Stokes on the 3-D immersed-boundary grid (:mod:`fluid`), the
+  membrane's triangles and node velocities as the moving interface (closed by a can outside
+  the tank, :class:`fsi.adapters.MembraneSurface`), a port stub of ``port.radius`` and
+  ``port.length`` below the bottom pole with Q(t) = ``port.flow`` min(t / ``port.ramp_time``, 1)
+  entering at its end.
+* Tank motion: ``[motion]`` (:mod:`fsi.motion`), the body acceleration g - a(t) in the tank
+  frame, felt by the liquid and by the membrane's mass.
+* Coupling: ``[coupling]`` (:mod:`coupling`), membrane first, liquid second, the interface
+  pressure accelerated; convergence on the pressure and the node positions.
+
+Groups written: ``frames`` (every ``dynamics.frame_interval`` windows and t = 0) and
+``windows`` (every window: iterations, residuals, level, volumes, seconds per participant).
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from coupling import CouplingError, run as couple
+from fluid.model import Port
+from fluid.solver import FluidSolver
+from fluid.tank import sphere_model, tank_grid
+from structure.load import Equilibrium
+from structure.model import MembraneState
+from structure.volume import FillScale, liquid_volume
+from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, XpbdState, solve_equilibrium
+
+from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
+from ..lifecycle import Progress, Run, RunResult, membrane_frame
+from ..models import hydrostatic_load
+from ..motion import body_acceleration
+from ..registry import Procedure, register_procedure
+from .coupled import COUPLED_TABLES, check_port, coupling_settings, window_substep
+
+log = logging.getLogger(__name__)
+
+START_TOLERANCE = 1e-6
+"""Static start converged when no node moves more than this fraction of its size per
+substep."""
+START_MAX_STEPS = 100_000
+
+
+class PortFlow:
+    """Q(t) = flow min(t / ramp_time, 1) (m^3/s) and the volume it has delivered (m^3)."""
+
+    def __init__(self, flow: float, ramp_time: float):
+        self.flow, self.ramp_time = float(flow), float(ramp_time)
+
+    def __call__(self, t: float) -> float:
+        return self.flow * min(t / self.ramp_time, 1.0)
+
+    def delivered(self, t: float) -> float:
+        if t <= self.ramp_time:
+            return self.flow * t * t / (2.0 * self.ramp_time)
+        return self.flow * (t - 0.5 * self.ramp_time)
+
+
+@dataclass
+class Coupled:
+    """The parts of a coupled fill, built at its start: the fill scale, the port flow, the
+    static start (state, its solve, its liquid volume in m^3), the liquid solver and both
+    participants."""
+
+    scale: FillScale
+    flow: PortFlow
+    start: XpbdState
+    start_info: Equilibrium
+    start_volume: float
+    fluid: FluidSolver
+    membrane: MembraneParticipant
+    fluid_side: FluidParticipant
+
+
+def static_start(setup, model: XpbdModel, settings: XpbdSettings):
+    """The membrane's static equilibrium at ``dynamics.start_fill`` (mirrored scale) under the
+    hydrostatic liquid, by damped XPBD at the dynamics' substep: (state, Equilibrium)."""
+    fill = setup.scene["dynamics"]["start_fill"]
+    volume = float(FillScale.mirrored(setup.model).volume(fill))
+    start, info = solve_equilibrium(model, MembraneState(setup.model.node_rest_position),
+                                    hydrostatic_load(setup.liquid, volume), settings)
+    if not info.converged:
+        log.warning("static start at fill %.3f not converged after %d substeps (move ratio "
+                    "%.2e): the run starts from a membrane in motion", fill, info.steps,
+                    info.move_ratio)
+    return start, info
+
+
+def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Coupled:
+    """Port, tank motion, fluid grid and solver, and both participants around ``start``."""
+    scene, liquid = setup.scene, setup.liquid
+    port, fl = scene["port"], scene["fluid"]
+    flow = PortFlow(port["flow"], port["ramp_time"])
+    body = body_acceleration(liquid.body_acceleration, scene["motion"])
+    if not np.allclose(body(0.0), liquid.body_acceleration):
+        log.warning("the tank accelerates at t = 0 (motion.history's first row): the static "
+                    "start, under liquid.body_acceleration, is not at rest in the moving tank")
+    grid = tank_grid(setup.model.radius, fl["cells"], axisymmetric=False,
+                     stub_length=port["length"])
+    surface = MembraneSurface(model)
+    fluid = FluidSolver(sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)],
+                                     body, density=liquid.density, viscosity=fl["viscosity"],
+                                     port_radius_cells=port["radius"] / grid.spacing),
+                        surface.of(start))
+    start_volume = liquid_volume(setup.model, start.node_position)
+    membrane = MembraneParticipant(model, start, settings,
+                                   lambda t: start_volume + flow.delivered(t), body,
+                                   info.pressure_level)
+    return Coupled(FillScale.mirrored(setup.model), flow, start, info, start_volume, fluid,
+                   membrane, FluidParticipant(fluid, surface=surface))
+
+
+def frame(setup, parts: Coupled, state, pressure, level, t, seconds, converged) -> dict:
+    """A frame of the coupled run at time ``t`` (s): the membrane frame, its node velocities,
+    the interface pressure (Pa, with the level) and the liquid's volume and largest speed."""
+    return dict(membrane_frame(setup, parts.scale, state.node_position, level),
+                node_velocity=state.node_velocity.copy(),
+                interface_pressure=np.asarray(pressure, dtype=float) + level, time=float(t),
+                target_fill_fraction=np.nan, fluid_liquid_volume=parts.fluid.liquid_volume,
+                node_speed_max=float(np.linalg.norm(state.node_velocity, axis=1).max()),
+                fluid_speed_max=parts.fluid.velocity_magnitude_max(),
+                wall_seconds=float(seconds), converged=bool(converged))
+
+
+def window_recorder(setup, parts: Coupled, run: Run):
+    """on_window(window log, data) of :func:`coupling.run`: a ``windows`` record every
+    window, a frame when one is due, progress."""
+    window = setup.scene["dynamics"]["window"]
+    membrane, fluid = parts.membrane, parts.fluid
+
+    def record(w, data):
+        t = (w.index + 1) * window
+        last = w.residuals[-1] if w.residuals else {}
+        run.record("windows", dict(
+            time=t, coupling_iterations=w.iterations, converged=w.converged,
+            residual_pressure=float(last.get(PRESSURE, np.nan)),
+            residual_points=float(last.get(POINTS, np.nan)),
+            seconds_structure=float(w.seconds.get(membrane.name, 0.0)),
+            seconds_fluid=float(w.seconds.get(parts.fluid_side.name, 0.0)),
+            pressure_level=membrane.level,
+            liquid_volume=liquid_volume(setup.model, membrane.state.node_position),
+            fluid_liquid_volume=fluid.liquid_volume, port_flow=parts.flow(t),
+            delivered_volume=parts.flow.delivered(t)))
+        if run.frame_due(w.index + 1):
+            run.record("frames", frame(setup, parts, membrane.state, data[PRESSURE],
+                                       membrane.level, t, run.elapsed(), w.converged))
+        run.progress(w.index + 1, f"t = {t:.4f} s, {w.iterations} it, level "
+                                  f"{membrane.level:.1f} Pa")
+
+    return record
+
+
+def coupled_fill(setup, progress: Progress) -> RunResult:
+    """Fill (or drain) through the port from a static start, membrane and liquid coupled."""
+    dyn = setup.scene["dynamics"]
+    n_windows = max(1, int(round(dyn["end_time"] / dyn["window"])))
+    run = Run(progress, n_windows, dyn["frame_interval"])
+    model = XpbdModel.from_membrane(setup.model)
+    settings = XpbdSettings(dt=window_substep(setup), warm_start=False,
+                            tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
+    start, info = static_start(setup, model, settings)
+    run.progress(0, f"static start: fill {dyn['start_fill']:.2f}, level "
+                    f"{info.pressure_level:.1f} Pa")
+    parts = assemble(setup, model, settings, start, info)
+    run.record("frames", frame(setup, parts, start, parts.fluid_side.initial_data()[PRESSURE],
+                               info.pressure_level, 0.0, run.elapsed(), info.converged))
+    try:
+        couple(parts.membrane, parts.fluid_side, coupling_settings(setup.scene["coupling"]),
+               dyn["window"], n_windows, on_window=window_recorder(setup, parts, run))
+    except (CouplingError, XpbdDivergence) as err:
+        run.stop(str(err))
+    return run.result(**fill_attrs(setup, parts, run, settings.dt, n_windows))
+
+
+def fill_attrs(setup, parts: Coupled, run: Run, substep: float, n_windows: int) -> dict:
+    """Run facts of a coupled fill: windows, substep, start, fill scale, fluid grid."""
+    dyn = setup.scene["dynamics"]
+    iterations = [w["coupling_iterations"] for w in run.groups.get("windows", [])]
+    return dict(
+        structure_model="xpbd", substep=substep, window=dyn["window"],
+        windows_done=len(iterations), windows_planned=n_windows,
+        mean_coupling_iterations=float(np.mean(iterations)) if iterations else np.nan,
+        start_fill=dyn["start_fill"], start_pressure_level=parts.start_info.pressure_level,
+        start_converged=parts.start_info.converged, start_volume=parts.start_volume,
+        empty_volume=parts.scale.empty_volume, full_volume=parts.scale.full_volume,
+        fill_scale="mirrored", fluid_cells=setup.scene["fluid"]["cells"])
+
+
+def report(result) -> None:
+    """The window table ``fsi run`` prints after a coupled fill."""
+    a = result.attrs
+    w = result.groups.get("windows")
+    print(f"coupled fill: {a['windows_done']} of {a['windows_planned']} windows of "
+          f"{a['window']:g} s, xpbd substep {a['substep']:.3g} s, mean "
+          f"{a['mean_coupling_iterations']:.2f} coupling iterations per window")
+    if w is None:
+        return
+    print("  t(s)     Q(m^3/s)    delivered   membrane dV  fluid dV     level(Pa)  iters")
+    v0, f0 = a["start_volume"], result.groups["frames"]["fluid_liquid_volume"][0]
+    for k in range(len(w["time"])):
+        print(f"  {w['time'][k]:7.4f} {w['port_flow'][k]:11.3e} {w['delivered_volume'][k]:11.3e} "
+              f"{w['liquid_volume'][k] - v0:11.3e} {w['fluid_liquid_volume'][k] - f0:11.3e} "
+              f"{w['pressure_level'][k]:11.2f} {int(w['coupling_iterations'][k]):5d}")
+
+
+PROCEDURE = register_procedure(Procedure(
+    name="coupled-fill",
+    summary="the dynamic fill or drain through the port, membrane and liquid coupled in time",
+    run=coupled_fill,
+    tables=COUPLED_TABLES,
+    structure_model="xpbd",
+    check_setup=check_port,
+    report=report,
+))

@@ -1,0 +1,73 @@
+"""``volume-sweep``: the quasi-static fill sweep, volume-controlled.
+
+For each fill phi of ``sweep.fills`` in order, the membrane's equilibrium holding the liquid
+volume V(phi) = V_empty + phi (V_full - V_empty) under the hydrostatic load
+p = p_ref + rho b . x, the level p_ref its Lagrange multiplier, by the scene's structure model
+(:mod:`fsi.models`); each fill starts from the previous equilibrium (continuation). With
+``sweep.drain`` the same fills are then run back down (group ``drain``).
+"""
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+
+from structure.model import MembraneState
+
+from ..fill import full_inversion
+from ..limits import check_time_step, courant_time_step_limit
+from ..lifecycle import Progress, Run, RunResult
+from ..models import STRUCTURE_MODELS, hydrostatic_load
+from ..registry import Procedure, register_procedure
+from .static import RELAXATION, SWEEP, full_inversion_parts, report_sweep, static_frame
+
+log = logging.getLogger(__name__)
+
+
+def volume_sweep(setup, progress: Progress) -> RunResult:
+    """Quasi-static sweep over ``sweep.fills`` by continuation, then back down with
+    ``sweep.drain``."""
+    fills = list(setup.scene["sweep"]["fills"])
+    full = full_inversion(setup)
+    scale = full.scale
+    legs = [("frames", fills)] + ([("drain", fills[::-1])] if setup.scene["sweep"]["drain"]
+                                  else [])
+    run = Run(progress, sum(len(f) for _, f in legs))
+    groups, attrs = full_inversion_parts(setup, full)
+    model = STRUCTURE_MODELS[setup.structure_model]
+    data = model.prepare(setup)
+    state = MembraneState(setup.model.node_rest_position)
+    level, done = 0.0, 0
+    for group, leg in legs:
+        for fill in leg:
+            t0 = time.perf_counter()
+            load = hydrostatic_load(setup.liquid, float(scale.volume(fill)), level)
+            state, info = model.solve(data, setup, state, load)
+            if np.isfinite(info.pressure_level):
+                level = info.pressure_level
+            seconds = time.perf_counter() - t0
+            if not info.converged:
+                log.warning("%s fill %.3f: %s model not converged after %d steps", group, fill,
+                            setup.structure_model, info.steps)
+            run.record(group, static_frame(setup, scale, state.node_position,
+                                           info.pressure_level, fill, seconds, info.steps,
+                                           info.converged))
+            done += 1
+            run.progress(done, f"{group} fill {fill:.2f}")
+    return run.result(groups, **attrs, structure_model=setup.structure_model)
+
+
+def _check_setup(setup) -> None:
+    check_time_step("relaxation.dt", setup.relaxation.dt,
+                    courant_time_step_limit(setup.model, setup.liquid, setup.model.radius))
+
+
+PROCEDURE = register_procedure(Procedure(
+    name="volume-sweep",
+    summary="volume-controlled quasi-static sweep over the fills (and back down)",
+    run=volume_sweep,
+    tables={"sweep": SWEEP, "relaxation": RELAXATION},
+    check_setup=_check_setup,
+    report=report_sweep,
+))

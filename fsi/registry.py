@@ -1,0 +1,106 @@
+"""The procedures a scene can run, one record each, and the vocabulary of scene keys.
+
+A procedure is one :class:`Procedure` record: its name (the scene's ``scene.procedure``), a
+one-line summary, the scene tables it owns (keys with defaults and checks), the structure
+model it needs, its setup checks, what ``fsi run`` prints after it, and its run
+function. Adding a procedure is adding one module under :mod:`fsi.procedures` that calls
+:func:`register_procedure`; the scene schema, the build and the CLI read everything from here.
+
+This module imports nothing of the project, so every other module may import it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Optional
+
+
+class SceneError(ValueError):
+    """A scene file is malformed: the message names the key, the value and the allowed range."""
+
+
+@dataclass(frozen=True)
+class Key:
+    """One scene key: Python type, default, check (value -> bool), allowed range text, doc."""
+
+    kind: type
+    default: Any
+    check: Callable[[Any], bool]
+    allowed: str
+    doc: str
+
+
+def _nothing(_) -> None:
+    return None
+
+
+class Table(dict):
+    """A scene table: key name -> :class:`Key`, and ``check``, a check of the table's values
+    together ({key: value} -> None, raising :class:`SceneError`), run on every scene."""
+
+    def __init__(self, keys: Mapping[str, Key], check: Callable[[dict], None] = _nothing):
+        super().__init__(keys)
+        self.check = check
+
+
+def positive(v) -> bool:
+    return v > 0
+
+
+def is_vec3(v) -> bool:
+    """Three finite numbers."""
+    return isinstance(v, list) and len(v) == 3 and all(
+        isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v)
+
+
+def one_of(names) -> tuple[Callable[[Any], bool], str]:
+    """(check, allowed text) of a key whose value is one of ``names`` (a registry or a
+    sequence; the check reads it when called)."""
+    return (lambda v: v in names), ", ".join(repr(k) for k in names)
+
+
+def short_number(x: float) -> str:
+    """A round limit as written in a scene reference: 1000000.0 -> '1e6'."""
+    return f"{x:.0e}".replace("e+0", "e").replace("e+", "e")
+
+
+@dataclass(frozen=True)
+class Procedure:
+    """One procedure.
+
+    name, summary : registry key and one line for listings; run : (setup, progress) ->
+    :class:`fsi.lifecycle.RunResult`; tables : {table name: :data:`Table`} the procedure owns
+    (a table may be shared by procedures as the same object); structure_model : the only
+    structure model it runs (the scene may say it or 'auto'), None for any; check_setup :
+    checks that need the built setup (grid spacings, stability limits), raising
+    :class:`SceneError`; report : prints the result's summary.
+    """
+
+    name: str
+    summary: str
+    run: Callable
+    tables: Mapping[str, Table] = field(default_factory=dict)
+    structure_model: Optional[str] = None
+    check_setup: Callable[[Any], None] = _nothing
+    report: Callable[[Any], None] = _nothing
+
+    def __call__(self, setup, progress):
+        """Run the procedure: ``progress(fraction, message)`` is called as it goes."""
+        return self.run(setup, progress)
+
+
+PROCEDURES: dict[str, Procedure] = {}
+
+
+def register_procedure(procedure: Procedure) -> Procedure:
+    """Add ``procedure`` to :data:`PROCEDURES`; a table it shares with a registered procedure
+    must be the same table."""
+    if procedure.name in PROCEDURES:
+        raise ValueError(f"procedure {procedure.name!r} is registered twice")
+    for other in PROCEDURES.values():
+        for name, table in procedure.tables.items():
+            if name in other.tables and other.tables[name] is not table:
+                raise ValueError(f"procedures {other.name!r} and {procedure.name!r} define "
+                                 f"different tables [{name}]")
+    PROCEDURES[procedure.name] = procedure
+    return procedure

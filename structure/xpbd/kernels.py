@@ -1,0 +1,165 @@
+"""Numba kernels of the XPBD membrane: one block of three compliant constraints, the sweeps
+over every triangle's Green-strain and bending blocks, and the hard volume constraint."""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..bending import _triangle
+from ..kernels import closed_volume_gradient, closed_volume_term
+
+JIT = dict(cache=True, nogil=True)
+
+
+@njit(**JIT, inline="always")
+def _solve3(a, r, out):
+    """out = a^-1 r for a symmetric 3 x 3 a (Cramer); rows with a zero diagonal are skipped."""
+    for i in range(3):
+        if a[i, i] == 0.0:
+            a[i, i] = 1.0
+            r[i] = 0.0
+    c00 = a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1]
+    c01 = a[1, 2] * a[2, 0] - a[1, 0] * a[2, 2]
+    c02 = a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0]
+    det = a[0, 0] * c00 + a[0, 1] * c01 + a[0, 2] * c02
+    if det == 0.0:
+        out[:] = 0.0
+        return
+    c10 = a[0, 2] * a[2, 1] - a[0, 1] * a[2, 2]
+    c11 = a[0, 0] * a[2, 2] - a[0, 2] * a[2, 0]
+    c12 = a[0, 1] * a[2, 0] - a[0, 0] * a[2, 1]
+    c20 = a[0, 1] * a[1, 2] - a[0, 2] * a[1, 1]
+    c21 = a[0, 2] * a[1, 0] - a[0, 0] * a[1, 2]
+    c22 = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
+    out[0] = (c00 * r[0] + c10 * r[1] + c20 * r[2]) / det
+    out[1] = (c01 * r[0] + c11 * r[1] + c21 * r[2]) / det
+    out[2] = (c02 * r[0] + c12 * r[1] + c22 * r[2]) / det
+
+
+@njit(**JIT, inline="always")
+def _block(x, inv_mass, nodes, grads, value, compliance, lam, t, inv_dt2, apply_only, a, r,
+           dlam):
+    """One XPBD block update of three constraints: nodes (3, k) (-1: none), grads (3, k, 3),
+    value (3,), compliance alpha (3, 3); lam[t] updated.  With apply_only, x += W J^T lam[t].
+    a (3, 3), r (3,), dlam (3,) are scratch."""
+    k = nodes.shape[1]
+    if apply_only:
+        for i in range(3):
+            dlam[i] = lam[t, i]
+    else:
+        for i in range(3):
+            for j in range(i, 3):
+                s = 0.0
+                for p in range(k):
+                    n = nodes[i, p]
+                    if n < 0:
+                        continue
+                    for q in range(k):
+                        if nodes[j, q] == n:
+                            s += inv_mass[n] * (grads[i, p, 0] * grads[j, q, 0]
+                                                + grads[i, p, 1] * grads[j, q, 1]
+                                                + grads[i, p, 2] * grads[j, q, 2])
+                a[i, j] = s + compliance[t, i, j] * inv_dt2
+                a[j, i] = a[i, j]
+        for i in range(3):
+            s = value[i]
+            for j in range(3):
+                s += compliance[t, i, j] * inv_dt2 * lam[t, j]
+            r[i] = -s
+        _solve3(a, r, dlam)
+        for i in range(3):
+            lam[t, i] += dlam[i]
+    for i in range(3):
+        for p in range(k):
+            n = nodes[i, p]
+            if n >= 0 and inv_mass[n] > 0.0:
+                w = inv_mass[n] * dlam[i]
+                x[n, 0] += w * grads[i, p, 0]
+                x[n, 1] += w * grads[i, p, 1]
+                x[n, 2] += w * grads[i, p, 2]
+
+
+@njit(**JIT)
+def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt2, apply_only):
+    """Green-strain blocks of every triangle with a free node (Gauss-Seidel)."""
+    nodes = np.empty((3, 3), dtype=np.int64)
+    grads = np.empty((3, 3, 3))
+    value = np.empty(3)
+    f0 = np.empty(3)
+    f1 = np.empty(3)
+    a3, r3, d3 = np.empty((3, 3)), np.empty(3), np.empty(3)
+    for t in range(triangles.shape[0]):
+        a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+        if inv_mass[a] == 0.0 and inv_mass[b] == 0.0 and inv_mass[c] == 0.0:
+            continue
+        d = rest_inverse[t]
+        for r in range(3):
+            e1 = x[b, r] - x[a, r]
+            e2 = x[c, r] - x[a, r]
+            f0[r] = e1 * d[0, 0] + e2 * d[1, 0]
+            f1[r] = e1 * d[0, 1] + e2 * d[1, 1]
+        s0 = np.sqrt(f0[0] * f0[0] + f0[1] * f0[1] + f0[2] * f0[2])
+        s1 = np.sqrt(f1[0] * f1[0] + f1[1] * f1[1] + f1[2] * f1[2])
+        cos01 = (f0[0] * f1[0] + f0[1] * f1[1] + f0[2] * f1[2]) / (s0 * s1)
+        value[0] = s0 - 1.0
+        value[1] = s1 - 1.0
+        value[2] = 0.5 * cos01
+        for i in range(3):
+            nodes[i, 0], nodes[i, 1], nodes[i, 2] = b, c, a
+        for r in range(3):
+            u0 = f0[r] / s0
+            u1 = f1[r] / s1
+            g0 = 0.5 * (u1 - cos01 * u0) / s0      # d value[2] / d f0
+            g1 = 0.5 * (u0 - cos01 * u1) / s1      # d value[2] / d f1
+            grads[0, 0, r] = u0 * d[0, 0]
+            grads[0, 1, r] = u0 * d[1, 0]
+            grads[1, 0, r] = u1 * d[0, 1]
+            grads[1, 1, r] = u1 * d[1, 1]
+            grads[2, 0, r] = g0 * d[0, 0] + g1 * d[0, 1]
+            grads[2, 1, r] = g0 * d[1, 0] + g1 * d[1, 1]
+            for i in range(3):
+                grads[i, 2, r] = -grads[i, 0, r] - grads[i, 1, r]
+        _block(x, inv_mass, nodes, grads, value, compliance, lam, t, inv_dt2, apply_only,
+               a3, r3, d3)
+
+
+@njit(**JIT)
+def bending_sweep(x, inv_mass, triangles, flap, ghost, active, rest_angle, compliance, lam,
+                   inv_dt2, apply_only):
+    """Angle blocks of every triangle whose stencil has a free node (Gauss-Seidel)."""
+    nodes = np.empty((3, 4), dtype=np.int64)
+    grads = np.empty((3, 4, 3))
+    value = np.empty(3)
+    a3, r3, d3 = np.empty((3, 3)), np.empty(3), np.empty(3)
+    for t in range(triangles.shape[0]):
+        free = False
+        for i in range(3):
+            if inv_mass[triangles[t, i]] > 0.0 or (flap[t, i] >= 0
+                                                   and inv_mass[flap[t, i]] > 0.0):
+                free = True
+        if not free:
+            continue
+        _triangle(x, triangles, flap, ghost, active, rest_angle, t, nodes, grads, value)
+        _block(x, inv_mass, nodes, grads, value, compliance, lam, t, inv_dt2, apply_only,
+               a3, r3, d3)
+
+
+@njit(**JIT)
+def volume_constraint(x, inv_mass, faces, sign, base_volume, target, lam, apply_only):
+    """Hard volume constraint V(x) = target (alpha = 0, one update); lam (1,) updated."""
+    grad = closed_volume_gradient(x, faces, sign)
+    if apply_only:
+        dlam = lam[0]
+    else:
+        c = base_volume + closed_volume_term(x, faces, sign) - target
+        denom = 0.0
+        for n in range(x.shape[0]):
+            denom += inv_mass[n] * (grad[n, 0] ** 2 + grad[n, 1] ** 2 + grad[n, 2] ** 2)
+        dlam = -c / denom
+        lam[0] += dlam
+    for n in range(x.shape[0]):
+        w = inv_mass[n] * dlam
+        x[n, 0] += w * grad[n, 0]
+        x[n, 1] += w * grad[n, 1]
+        x[n, 2] += w * grad[n, 2]
+
