@@ -1,13 +1,18 @@
 """The procedures a scene can run, one module each, registered in :data:`PROCEDURES`
-(:mod:`fsi.registry`): ``volume-sweep``, ``thesis-ramp`` and ``coupled-fill``.
+(:mod:`fsi.registry`): ``coupled-fill``, ``thesis-ramp`` and ``volume-sweep``.
 
-Importing this package registers them all. A new procedure is a new module here, imported
-below, that calls :func:`fsi.registry.register_procedure` with its record.
+Importing this package imports every module in it, and each procedure module registers its
+record with :func:`fsi.registry.register_procedure`: a new procedure is a new module here.
+Modules that register nothing hold what several procedures share (:mod:`.static`,
+:mod:`.coupled`).
 """
+import importlib
+import pkgutil
+
 from ..lifecycle import RunResult
 from ..registry import PROCEDURES, Procedure
-from . import volume_sweep  # noqa: F401,E402  (each import registers one procedure)
-from . import thesis_ramp  # noqa: F401,E402
-from . import coupled_fill  # noqa: F401,E402
+
+for _module in sorted(m.name for m in pkgutil.iter_modules(__path__)):
+    importlib.import_module(f"{__name__}.{_module}")
 
 __all__ = ["PROCEDURES", "Procedure", "RunResult"]
