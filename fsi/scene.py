@@ -55,7 +55,9 @@ COMMON: dict[str, dict[str, Key]] = {
         "model": Key(str, "auto", *one_of(["auto", *STRUCTURE_MODELS]),
                      "membrane model of a volume sweep (README, 'Choosing a structure model'); "
                      "auto: the cheapest meeting structure.accuracy; a procedure that runs one "
-                     "model only (thesis-ramp: thesis, coupled-fill: xpbd) takes it"),
+                     "model only takes it (" + ", ".join(
+                         f"{p.name}: {p.structure_model}" for p in PROCEDURES.values()
+                         if p.structure_model) + ")"),
         "accuracy": Key(float, 5.0, lambda v: 0 < v <= 100, "0 < value <= 100 (%)",
                         "Eqn 6.1 error the scene accepts, for model = 'auto' (%)"),
         "shell_law": Key(str, "saint-venant-kirchhoff", *one_of(MEMBRANE_LAWS),
