@@ -28,7 +28,7 @@ class Setup:
     liquid: HydrostaticLiquid
     constraints: ConstraintSettings
     relaxation: RelaxationSettings
-    structure_model: str = "thesis"
+    structure_model: str
 
     @property
     def procedure(self) -> Procedure:
@@ -60,9 +60,10 @@ def build(scene) -> Setup:
         error_limit=c["error_limit"] / 100.0, bend_limit_iterations=c["bend_limit_iterations"],
         self_collision=c["self_collision"], collision_buffer=c["collision_buffer"],
         constraint_iterations=c["constraint_iterations"])
-    setup = Setup(scene, model, liquid, constraints, relaxation_settings(scene, constraints))
-    procedure.check_setup(setup)
     structure = scene["structure"]
     chosen = procedure.structure_model or choose_model(structure["model"], model.grid_size,
                                                        structure["accuracy"])
-    return replace(setup, structure_model=chosen)
+    setup = Setup(scene, model, liquid, constraints, relaxation_settings(scene, constraints),
+                  chosen)
+    procedure.check_setup(setup)
+    return setup

@@ -26,18 +26,18 @@ from .registry import PROCEDURES, Key, SceneError, Table, is_vec3, one_of, posit
 __all__ = ["SCHEMA", "Scene", "SceneError", "bundled_scenes", "load_scene", "parse_scene",
            "reference_markdown"]
 
-COMMON: dict[str, dict[str, Key]] = {
-    "scene": {
+COMMON: dict[str, Table] = {
+    "scene": Table({
         "name": Key(str, "unnamed", lambda v: len(v) > 0, "non-empty text", "scene name"),
         "description": Key(str, "", lambda v: True, "any text", "one-line description"),
         "procedure": Key(str, "volume-sweep", *one_of(list(PROCEDURES)),
                          "; ".join(f"{p.name}: {p.summary}" for p in PROCEDURES.values())),
-    },
-    "tank": {
+    }),
+    "tank": Table({
         "radius": Key(float, constants.TANK_RADIUS, positive, "> 0 m",
                       "spherical tank radius (m)"),
-    },
-    "membrane": {
+    }),
+    "membrane": Table({
         "grid_size": Key(int, 26, lambda v: v >= 4 and v % 2 == 0, "even integer >= 4",
                          "nodes per grid side (thesis GridSize)"),
         "thickness": Key(float, constants.MEMBRANE_THICKNESS, positive, "> 0 m",
@@ -50,8 +50,8 @@ COMMON: dict[str, dict[str, Key]] = {
                              "Poisson ratio (xpbd and shell models; rubber 0.5)"),
         "support": Key(str, "clamped", *one_of(list(SUPPORTS)),
                        "rim support: two fixed rings (clamped) or one (simply supported)"),
-    },
-    "structure": {
+    }),
+    "structure": Table({
         "model": Key(str, "auto", *one_of(["auto", *STRUCTURE_MODELS]),
                      "membrane model of a volume sweep (README, 'Choosing a structure model'); "
                      "auto: the cheapest meeting structure.accuracy; a procedure that runs one "
@@ -62,15 +62,15 @@ COMMON: dict[str, dict[str, Key]] = {
                         "Eqn 6.1 error the scene accepts, for model = 'auto' (%)"),
         "shell_law": Key(str, "saint-venant-kirchhoff", *one_of(MEMBRANE_LAWS),
                          "membrane law of the shell model"),
-    },
-    "liquid": {
+    }),
+    "liquid": Table({
         "density": Key(float, constants.WATER_DENSITY, positive, "> 0 kg/m^3",
                        "liquid density (kg/m^3)"),
         "body_acceleration": Key(list, [0.0, 0.0, -constants.STANDARD_GRAVITY], is_vec3,
                                  "three finite numbers (m/s^2)",
                                  "gravity minus tank acceleration, tank frame (m/s^2)"),
-    },
-    "constraints": {
+    }),
+    "constraints": Table({
         "error_limit": Key(float, 1.0, lambda v: 0 < v < 100, "0 < value < 100 (%)",
                            "in-plane strain limit (thesis ErrorLimit, %)"),
         "bend_limit_iterations": Key(int, 10, lambda v: 0 <= v <= 1000, "0..1000",
@@ -84,13 +84,13 @@ COMMON: dict[str, dict[str, Key]] = {
         "constraint_iterations": Key(int, 1, lambda v: 1 <= v <= 100, "1..100",
                                      "constraint rounds per step (thesis "
                                      "ConstraintIterations); thesis-ramp only"),
-    },
+    }),
 }
 """Tables every scene shares: the scene, the tank, the membrane and its structure model, the
 liquid at rest, the thesis membrane's constraints."""
 
 
-def _schema() -> dict[str, dict[str, Key]]:
+def _schema() -> dict[str, Table]:
     schema = dict(COMMON)
     for procedure in PROCEDURES.values():
         for name, table in procedure.tables.items():
@@ -101,7 +101,7 @@ def _schema() -> dict[str, dict[str, Key]]:
     return schema
 
 
-SCHEMA: dict[str, dict[str, Key]] = _schema()
+SCHEMA: dict[str, Table] = _schema()
 """Every table a scene may hold: :data:`COMMON`, then the procedures' own tables."""
 
 
@@ -161,8 +161,7 @@ def parse_scene(text: str, source: str = "<string>") -> Scene:
         values[section] = {name: (_coerce(f"{section}.{name}", key, given[name])
                                   if name in given else key.default)
                            for name, key in keys.items()}
-        if isinstance(keys, Table):
-            keys.check(values[section])
+        keys.check(values[section])
     _check_structure_model(values)
     return Scene(values, text, source)
 

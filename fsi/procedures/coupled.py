@@ -69,7 +69,7 @@ MOTION = Table({
 }, _check_motion)
 """[motion]: the tank's acceleration (:mod:`fsi.motion`)."""
 
-PORT = {
+PORT = Table({
     "flow": Key(float, 5e-4, lambda v: abs(v) <= 1.0, "-1..1 m^3/s",
                 "volume flow into the liquid through the bottom port (m^3/s; negative drains)"),
     "radius": Key(float, 0.06, lambda v: 0 < v < 1, "0 < value < 1 m, at least 1.5 cells of "
@@ -80,18 +80,18 @@ PORT = {
     "ramp_time": Key(float, 0.1, positive, "> 0 s",
                      "the flow rises linearly from 0 over this time (s); a valve opens in "
                      "finite time, an impulsive start has no solution"),
-}
+})
 """[port]: the bottom port and its stub."""
 
-FLUID = {
+FLUID = Table({
     "cells": Key(int, 16, lambda v: 8 <= v <= 128, "8..128",
                  "cells per axis of the 3-D grid over the tank"),
     "viscosity": Key(float, 1e-3, lambda v: v >= 0, ">= 0 Pa s",
                      "dynamic viscosity of the liquid (Pa s)"),
-}
+})
 """[fluid]: the immersed-boundary liquid (:mod:`fluid`)."""
 
-COUPLING = {
+COUPLING = Table({
     "scheme": Key(str, "implicit-serial", *one_of(sorted(SCHEMES)),
                   "coupling scheme (membrane first, liquid second)"),
     "acceleration": Key(str, "iqn-ils", *one_of(sorted(ACCELERATIONS)),
@@ -115,7 +115,7 @@ COUPLING = {
                              "stop with an error, or accept the window and log it"),
     "extrapolation_order": Key(int, 0, *one_of(sorted(EXTRAPOLATION_WEIGHTS)),
                                "prediction of a window's start from past windows"),
-}
+})
 """[coupling]: every knob of :class:`coupling.CouplingSettings`."""
 
 COUPLED_TABLES = {"dynamics": DYNAMICS, "motion": MOTION, "port": PORT, "fluid": FLUID,

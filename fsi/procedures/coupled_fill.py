@@ -34,7 +34,7 @@ from fluid.tank import sphere_model, tank_grid
 from structure.load import Equilibrium
 from structure.model import MembraneState
 from structure.volume import FillScale, liquid_volume
-from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, XpbdState, solve_equilibrium
+from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
 from ..lifecycle import Progress, Run, RunResult, membrane_frame
@@ -69,12 +69,10 @@ class PortFlow:
 @dataclass
 class Coupled:
     """The parts of a coupled fill, built at its start: the fill scale, the port flow, the
-    static start (state, its solve, its liquid volume in m^3), the liquid solver and both
-    participants."""
+    static start's solve and liquid volume (m^3), the liquid solver and both participants."""
 
     scale: FillScale
     flow: PortFlow
-    start: XpbdState
     start_info: Equilibrium
     start_volume: float
     fluid: FluidSolver
@@ -116,7 +114,7 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     membrane = MembraneParticipant(model, start, settings,
                                    lambda t: start_volume + flow.delivered(t), body,
                                    info.pressure_level)
-    return Coupled(FillScale.mirrored(setup.model), flow, start, info, start_volume, fluid,
+    return Coupled(FillScale.mirrored(setup.model), flow, info, start_volume, fluid,
                    membrane, FluidParticipant(fluid, surface=surface))
 
 

@@ -10,7 +10,7 @@ from structure.volume import FillScale
 
 from ..fill import FullInversion
 from ..lifecycle import membrane_frame
-from ..registry import Key, positive
+from ..registry import Key, Table, positive
 
 
 def _fills(v):
@@ -18,7 +18,7 @@ def _fills(v):
         isinstance(c, (int, float)) and not isinstance(c, bool) and 0.0 <= c <= 1.0 for c in v)
 
 
-SWEEP = {
+SWEEP = Table({
     "fills": Key(list, [round(0.1 * k, 10) for k in range(11)], _fills,
                  "non-empty list of numbers in [0, 1]", "fill fractions, in order"),
     "drain": Key(bool, True, lambda v: True, "true or false",
@@ -26,10 +26,10 @@ SWEEP = {
     "full_height": Key(float, 1.05, lambda v: 0 < v <= 100, "0 < value <= 100 (x radius)",
                        "equivalent height / radius of the load whose fully inverted "
                        "equilibrium is 100 % fill (App. J: the ramp's final +1.05)"),
-}
+})
 """[sweep]: the fills of a static result and the load of its 100 % reference."""
 
-RELAXATION = {
+RELAXATION = Table({
     "dt": Key(float, None, positive, "> 0 s, below the explicit stability limit",
               "pseudo time step (s); default: the solver's"),
     "damping": Key(float, None, lambda v: 0 <= v < 1, "0 <= value < 1",
@@ -37,7 +37,7 @@ RELAXATION = {
     "tolerance": Key(float, None, lambda v: 0 < v < 1, "0 < value < 1",
                      "converged when max node move per step / node size < tolerance"),
     "max_steps": Key(int, None, lambda v: v >= 1, ">= 1", "pseudo-steps per fill at most"),
-}
+})
 """[relaxation]: the thesis model's static relaxation (:mod:`structure.statics`)."""
 
 
