@@ -52,7 +52,8 @@ import numpy as np
 from fipy.solvers.convergence import DivergenceWarning
 
 from fluid.interface import Interface
-from fluid.linear import LINEAR_SOLVERS, SUITE
+from fluid.linear import LINEAR_SOLVERS
+SUITE = "scipy"
 from fluid.model import Port
 from fluid.solver import FluidSolver, Timings
 from fluid.tank import sphere_model, tank_grid

@@ -1,62 +1,214 @@
-"""FiPy linear solvers by name (registry), so that scenes, tests and benchmarks can choose.
+"""Linear solvers by name (registry) for the systems the liquid step assembles.
 
-Only FiPy's SciPy suite installs on this machine from the package registry (PETSc, Trilinos and
-pyamgx do not); within it the Krylov solvers take SciPy's Jacobi/ILU or PyAMG's
-smoothed-aggregation preconditioner.
+Every solver takes a SciPy CSR matrix, a right-hand side and a start vector and stops on
+FiPy's ``RHS`` criterion, ||b - A x|| <= tolerance ||b|| (FiPy's SciPy suite passes the same
+relative tolerance to the same SciPy Krylov functions). Only SciPy and PyAMG install on this
+machine from the package registry (PETSc, Trilinos and pyamgx do not).
+
+A preconditioner built from one step's matrix stays valid for the next steps' matrices, which
+differ only where the moving interface changed the coefficients: the ``pcg-amg`` and
+``pcg-lu`` solvers keep their smoothed-aggregation hierarchy or sparse LU factors and rebuild
+them only when the iteration count has grown ``REBUILD_GROWTH`` times past the count just after
+a rebuild (or the solve fails to converge, which then repeats with fresh ones). The answer
+meets the same tolerance either way; only the work changes.
+
+BLAS threads: numpy and SciPy each load an OpenBLAS with a thread per core, and on two cores
+the two pools fight over vector reductions (10-30x slower Krylov solves after a sparse LU ran in
+the same process). :func:`single_blas_thread` limits both pools to one thread; the liquid step
+runs inside it.
 """
 from __future__ import annotations
 
+import warnings
+from contextlib import contextmanager
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
-from fipy.solvers import scipy as suite
-from fipy.solvers.scipy.preconditioners import ILUPreconditioner
-from fipy.solvers.scipy.preconditioners.scipyPreconditioner import ScipyPreconditioner
+import scipy.sparse.linalg as sla
 
-SUITE = "scipy"
-
-
-class JacobiPreconditioner(ScipyPreconditioner):
-    """Diagonal scaling as a sparse diagonal matrix (FiPy's own Jacobi preconditioner applies
-    the diagonal through a sparse direct solve at every Krylov iteration)."""
-
-    def _applyToMatrix(self, matrix):
-        diagonal = matrix.diagonal()
-        return sp.diags(np.where(diagonal != 0, 1.0 / np.where(diagonal != 0, diagonal, 1), 1.0)
-                        ).tocsr(), None
+#: a kept preconditioner is rebuilt once a solve needs this many times the iterations it
+#: needed right after the last rebuild (and at least ``REBUILD_MIN_ITERATIONS`` more)
+REBUILD_GROWTH = 2.0
+REBUILD_MIN_ITERATIONS = 4
 
 
-def _amg():
-    from fipy.solvers.pyAMG.preconditioners import SmoothedAggregationPreconditioner
-    return SmoothedAggregationPreconditioner()
+class LinearSolveWarning(UserWarning):
+    """A linear solve ended above its tolerance."""
 
 
-def _krylov(cls, precon: Callable | None):
-    def make(tolerance: float, iterations: int):
-        return cls(tolerance=tolerance, criterion="RHS", iterations=iterations,
-                   precon=precon() if precon else None)
-    return make
+@dataclass(frozen=True)
+class SolveInfo:
+    """iterations: Krylov iterations (refinement sweeps for LU); residual: ||b - A x|| / ||b||
+    at the end (0 for b = 0); tolerance: the relative tolerance asked for; rebuilt: the
+    preconditioner was (re)built for this solve."""
+
+    iterations: int
+    residual: float
+    tolerance: float
+    rebuilt: bool = False
 
 
-#: name -> factory(tolerance, iterations) of a FiPy solver
-LINEAR_SOLVERS: dict[str, Callable] = {
-    "lu": lambda tolerance, iterations: suite.LinearLUSolver(tolerance=tolerance),
-    "pcg": _krylov(suite.LinearPCGSolver, None),
-    "pcg-jacobi": _krylov(suite.LinearPCGSolver, JacobiPreconditioner),
-    "pcg-amg": _krylov(suite.LinearPCGSolver, _amg),
-    "bicgstab-jacobi": _krylov(suite.LinearBicgstabSolver, JacobiPreconditioner),
-    "bicgstab-ilu": _krylov(suite.LinearBicgstabSolver, ILUPreconditioner),
-    "gmres-ilu": _krylov(suite.LinearGMRESSolver, ILUPreconditioner),
-    "gmres-amg": _krylov(suite.LinearGMRESSolver, _amg),
+_controller = None
+
+
+@contextmanager
+def single_blas_thread():
+    """Run the block with one OpenBLAS/OpenMP thread in every loaded pool (see module doc)."""
+    global _controller
+    if _controller is None:
+        from threadpoolctl import ThreadpoolController
+        _controller = ThreadpoolController()
+    with _controller.limit(limits=1):
+        yield
+
+
+def _relative_residual(matrix, x, rhs) -> float:
+    norm = float(np.linalg.norm(rhs))
+    return float(np.linalg.norm(rhs - matrix @ x)) / norm if norm > 0 else 0.0
+
+
+# ---------------------------------------------------------------- preconditioners
+
+
+def _jacobi(matrix):
+    diagonal = matrix.diagonal()
+    inverse = np.where(diagonal != 0, 1.0 / np.where(diagonal != 0, diagonal, 1.0), 1.0)
+    return sp.diags(inverse).tocsr()
+
+
+def _ilu(matrix):
+    factors = sla.spilu(matrix.tocsc())
+    return sla.LinearOperator(matrix.shape, factors.solve)
+
+
+def _amg(matrix):
+    import pyamg
+    return pyamg.smoothed_aggregation_solver(matrix.tocsr()).aspreconditioner(cycle="V")
+
+
+def _lu(matrix):
+    factors = sla.splu(matrix.tocsc())
+    return sla.LinearOperator(matrix.shape, factors.solve)
+
+
+#: preconditioner name -> (build from a matrix, worth keeping across steps)
+PRECONDITIONERS: dict[str, tuple[Callable, bool]] = {
+    "none": (lambda matrix: None, False),
+    "jacobi": (_jacobi, False),
+    "ilu": (_ilu, False),
+    "amg": (_amg, True),
+    "lu": (_lu, True),
 }
 
-#: solvers valid for the symmetric pressure equation (PCG needs a symmetric operator)
-SYMMETRIC_ONLY = {"pcg", "pcg-jacobi", "pcg-amg"}
+
+class KrylovSolver:
+    """A SciPy Krylov method with a preconditioner (kept across solves where that pays)."""
+
+    def __init__(self, method: Callable, preconditioner: str, tolerance: float,
+                 iterations: int):
+        self.method = method
+        self.build, self.keep = PRECONDITIONERS[preconditioner]
+        self.tolerance = tolerance
+        self.iterations = iterations
+        self._kept = None
+        self._kept_shape = None
+        self._iterations_at_build = 0
+        self._stale = True
+
+    def _preconditioner(self, matrix):
+        if not self.keep:
+            return self.build(matrix), True
+        if self._stale or self._kept_shape != matrix.shape:
+            self._kept = self.build(matrix)
+            self._kept_shape = matrix.shape
+            self._stale = False
+            return self._kept, True
+        return self._kept, False
+
+    def _run(self, matrix, rhs, x0, preconditioner):
+        count = [0]
+
+        def callback(_):
+            count[0] += 1
+
+        x, info = self.method(matrix, rhs, x0=x0, rtol=self.tolerance, atol=0.0,
+                              maxiter=self.iterations, M=preconditioner, callback=callback)
+        return x, info, count[0]
+
+    def solve(self, matrix, rhs, x0) -> tuple[np.ndarray, SolveInfo]:
+        """x with ||b - A x|| <= tolerance ||b||, started from ``x0``."""
+        preconditioner, rebuilt = self._preconditioner(matrix)
+        x, info, count = self._run(matrix, rhs, x0, preconditioner)
+        if info != 0 and self.keep and not rebuilt:
+            self._stale = True
+            preconditioner, rebuilt = self._preconditioner(matrix)
+            x, info, count = self._run(matrix, rhs, x0, preconditioner)
+        if self.keep:
+            if rebuilt:
+                self._iterations_at_build = count
+            elif count > max(REBUILD_GROWTH * self._iterations_at_build,
+                             self._iterations_at_build + REBUILD_MIN_ITERATIONS):
+                self._stale = True
+        residual = _relative_residual(matrix, x, rhs)
+        if info != 0 and residual > self.tolerance:
+            # breakdown or no convergence: the direct solve is the fallback
+            x, more = DirectSolver(self.tolerance).solve(matrix, rhs, x)
+            residual, count = more.residual, count + more.iterations
+        return x, SolveInfo(count, residual, self.tolerance, rebuilt)
+
+
+class DirectSolver:
+    """Sparse LU (SuperLU) of the matrix scaled by its largest diagonal entry, with iterative
+    refinement until the tolerance holds (at most ``REFINEMENTS`` sweeps), as FiPy's
+    ``LinearLUSolver`` does."""
+
+    REFINEMENTS = 10
+
+    def __init__(self, tolerance: float, iterations: int = 0):
+        self.tolerance = tolerance
+
+    def solve(self, matrix, rhs, x0) -> tuple[np.ndarray, SolveInfo]:
+        scale = 1.0 / np.max(np.abs(matrix.diagonal()))
+        a = (matrix * scale).tocsc()
+        b = rhs * scale
+        factors = sla.splu(a)
+        x = np.array(x0, dtype=float)
+        target = self.tolerance * np.linalg.norm(b)
+        sweeps = 0
+        for sweeps in range(1, self.REFINEMENTS + 1):
+            residual = a @ x - b
+            if np.linalg.norm(residual) <= target:
+                break
+            x -= factors.solve(residual)
+        return x, SolveInfo(sweeps, _relative_residual(matrix, x, rhs), self.tolerance, True)
+
+
+def _krylov(method, preconditioner):
+    return lambda tolerance, iterations: KrylovSolver(method, preconditioner, tolerance,
+                                                      iterations)
+
+
+#: name -> factory(tolerance, iterations) of a solver with ``solve(matrix, rhs, x0)``
+LINEAR_SOLVERS: dict[str, Callable] = {
+    "lu": DirectSolver,
+    "pcg": _krylov(sla.cg, "none"),
+    "pcg-jacobi": _krylov(sla.cg, "jacobi"),
+    "pcg-amg": _krylov(sla.cg, "amg"),
+    "pcg-lu": _krylov(sla.cg, "lu"),
+    "bicgstab-jacobi": _krylov(sla.bicgstab, "jacobi"),
+    "bicgstab-ilu": _krylov(sla.bicgstab, "ilu"),
+    "gmres-ilu": _krylov(sla.gmres, "ilu"),
+    "gmres-amg": _krylov(sla.gmres, "amg"),
+}
+
+#: solvers valid for the symmetric pressure equation only (CG needs a symmetric operator)
+SYMMETRIC_ONLY = {"pcg", "pcg-jacobi", "pcg-amg", "pcg-lu"}
 
 
 def make_solver(name: str, tolerance: float = 1e-10, iterations: int = 2000, *, symmetric: bool):
-    """FiPy solver ``name`` from :data:`LINEAR_SOLVERS`; ``symmetric``: the system is."""
+    """Solver ``name`` from :data:`LINEAR_SOLVERS`; ``symmetric``: the system is."""
     if name not in LINEAR_SOLVERS:
         raise ValueError(f"unknown linear solver {name!r}; allowed: {sorted(LINEAR_SOLVERS)}")
     if name in SYMMETRIC_ONLY and not symmetric:
@@ -65,12 +217,16 @@ def make_solver(name: str, tolerance: float = 1e-10, iterations: int = 2000, *, 
     return LINEAR_SOLVERS[name](tolerance, iterations)
 
 
+def warn_if_unconverged(info: SolveInfo, what: str) -> None:
+    """A :class:`LinearSolveWarning` naming ``what`` when the residual exceeds the tolerance."""
+    if info.residual > info.tolerance:
+        warnings.warn(f"{what}: relative residual {info.residual:.2e} above the tolerance "
+                      f"{info.tolerance:.0e} after {info.iterations} iterations",
+                      LinearSolveWarning, stacklevel=3)
+
+
 def pressure_solver_for(n_cells: int, axisymmetric: bool) -> str:
-    """The pressure solver that was fastest on this machine (``benchmarks/fluid_step.py``):
-    sparse LU on axisymmetric grids (8k unknowns in 2-D: little fill-in, no iterations);
-    Jacobi-preconditioned CG on 3-D grids up to ~40k cells (LU fill-in grows, the Jacobi
-    iteration count is still small); smoothed-aggregation AMG beyond (its iteration count stays
-    flat as the grid grows, which pays for its setup at every step)."""
+    """The pressure solver that was fastest on this machine (``benchmarks/fluid_step.py``)."""
     if axisymmetric:
-        return "lu"
-    return "pcg-jacobi" if n_cells <= 40_000 else "pcg-amg"
+        return "pcg-lu"
+    return "pcg-lu" if n_cells <= 10_000 else "pcg-amg"

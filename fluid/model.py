@@ -65,7 +65,10 @@ class FluidModel:
     momentum_solver, pressure_solver: names in :data:`fluid.linear.LINEAR_SOLVERS`
     (``auto`` for the pressure: the fastest measured for the grid, see
     :func:`fluid.linear.pressure_solver_for`);
-    pressure_tolerance: relative residual of the pressure solve.
+    pressure_tolerance: relative residual of the pressure solve;
+    assembly: who builds the linear systems, a name in :data:`fluid.systems.ASSEMBLIES`
+    ('direct': laid out once, refilled each step; 'fipy': FiPy's terms, rebuilt each step;
+    the two give the same matrices, see :mod:`fluid.assembly`).
     """
 
     grid: TankGrid
@@ -78,6 +81,7 @@ class FluidModel:
     momentum_solver: str = "bicgstab-jacobi"
     pressure_solver: str = "auto"
     pressure_tolerance: float = 1e-10
+    assembly: str = "direct"
 
     def __post_init__(self):
         if not self.density > 0:

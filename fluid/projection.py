@@ -23,17 +23,18 @@ with Rhie-Chow face velocities on FiPy's collocated grid):
 from __future__ import annotations
 
 import time as _time
-import warnings
 from dataclasses import dataclass
 
-import fipy as fp
 import numpy as np
 from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
+from . import assembly as _assembly  # noqa: F401  (registers the "direct" assembly)
+from . import terms as _terms  # noqa: F401  (registers the "fipy" assembly)
 from .geometry import Geometry
-from .linear import make_solver, pressure_solver_for
+from .linear import make_solver, pressure_solver_for, single_blas_thread, warn_if_unconverged
 from .model import FluidModel, FluidState
+from .systems import ASSEMBLIES, MomentumInputs, PressureInputs
 
 #: smallest wall distance fraction used by the immersed viscous condition
 THETA_MIN = 0.05
@@ -43,6 +44,11 @@ THETA_MIN = 0.05
 #: keeping the momentum system well scaled for Krylov solvers (a huge pin would dominate the
 #: right-hand side and stop the iteration before the liquid rows converge)
 PIN_FACTOR = 1e3
+#: relative residual (FiPy's RHS criterion) and iteration cap of the momentum solves
+MOMENTUM_TOLERANCE = 1e-10
+MOMENTUM_ITERATIONS = 1000
+#: iteration cap of the pressure solve (its tolerance is the model's)
+PRESSURE_ITERATIONS = 2000
 
 
 @dataclass(frozen=True)
@@ -50,46 +56,26 @@ class StepReport:
     """volume_mismatch: interface volume rate minus net port inflow (m^3/s) that the
     pressure equation could not honour (flow ports only; removed uniformly, should be ~0);
     divergence: largest |cell continuity residual| / cell volume (1/s) after the step;
-    seconds: wall time of (geometry is the caller's), momentum, pressure."""
+    seconds: wall time of (geometry is the caller's), momentum, pressure;
+    momentum_iterations: most iterations of the component solves; pressure_iterations and
+    pressure_residual: of the pressure solve (relative residual, FiPy's RHS criterion)."""
 
     volume_mismatch: float
     divergence: float
     seconds_momentum: float
     seconds_pressure: float
+    momentum_iterations: int = 0
+    pressure_iterations: int = 0
+    pressure_residual: float = 0.0
 
 
 class ProjectionOperators:
-    """FiPy variables and equations for one model, built once and refilled every step."""
+    """Port faces, the assembly of the two linear systems and their solvers for one model,
+    built once (see :mod:`fluid.systems`)."""
 
     def __init__(self, model: FluidModel):
         self.model = model
         grid = model.grid
-        mesh = grid.mesh
-        dim = grid.dim
-        self.velocity = [fp.CellVariable(mesh=mesh, value=0.0, hasOld=True) for _ in range(dim)]
-        self.viscous_coeff = fp.FaceVariable(mesh=mesh, value=model.viscosity)
-        self.flux_velocity = fp.FaceVariable(mesh=mesh, rank=1, value=0.0)
-        self.flux_divergence = fp.CellVariable(mesh=mesh, value=0.0)
-        self.pin = fp.CellVariable(mesh=mesh, value=0.0)
-        self.pin_target = [fp.CellVariable(mesh=mesh, value=0.0) for _ in range(dim)]
-        self.pressure_gradient = [fp.CellVariable(mesh=mesh, value=0.0) for _ in range(dim)]
-        rho = model.density
-        self.momentum = []
-        for a in range(dim):
-            u = self.velocity[a]
-            lhs = fp.TransientTerm(coeff=rho, var=u)
-            if model.convection:
-                lhs = lhs + fp.UpwindConvectionTerm(coeff=self.flux_velocity, var=u) \
-                    - fp.ImplicitSourceTerm(coeff=self.flux_divergence, var=u)
-            rhs = fp.DiffusionTerm(coeff=self.viscous_coeff, var=u) \
-                - fp.ImplicitSourceTerm(coeff=self.pin, var=u) \
-                + self.pin * self.pin_target[a] - self.pressure_gradient[a]
-            if grid.axisymmetric and a == 0 and model.viscosity > 0:
-                r = np.maximum(grid.cell_centre[:, 0], 0.5 * grid.spacing)
-                rhs = rhs - fp.ImplicitSourceTerm(
-                    coeff=fp.CellVariable(mesh=mesh, value=model.viscosity / r**2), var=u)
-            self.momentum.append(lhs == rhs)
-        # port faces and conditions
         self.flow_faces = np.zeros(grid.n_faces, dtype=bool)
         self.pressure_faces = np.zeros(grid.n_faces, dtype=bool)
         self.port_faces = []
@@ -97,27 +83,19 @@ class ProjectionOperators:
             faces = grid.boundary_faces(port.side)
             self.port_faces.append(faces)
             (self.flow_faces if port.kind == "flow" else self.pressure_faces)[faces] = True
-        self.inflow = [fp.FaceVariable(mesh=mesh, value=0.0) for _ in range(dim)]
-        if self.flow_faces.any():
-            mask = fp.FaceVariable(mesh=mesh, value=self.flow_faces)
-            for a in range(dim):
-                self.velocity[a].constrain(self.inflow[a], where=mask)
-        self.correction = fp.CellVariable(mesh=mesh, value=0.0)
-        self.correction_bc = fp.FaceVariable(mesh=mesh, value=0.0)
-        if self.pressure_faces.any():
-            self.correction.constrain(self.correction_bc,
-                                      where=fp.FaceVariable(mesh=mesh, value=self.pressure_faces))
-        self.pressure_coeff = fp.FaceVariable(mesh=mesh, value=0.0)
-        self.pressure_pin = fp.CellVariable(mesh=mesh, value=0.0)
-        self.pressure_source = fp.CellVariable(mesh=mesh, value=0.0)
-        self.pressure_eq = fp.DiffusionTerm(coeff=self.pressure_coeff, var=self.correction) \
-            - fp.ImplicitSourceTerm(coeff=self.pressure_pin, var=self.correction) \
-            == self.pressure_source
-        self.momentum_solver = make_solver(model.momentum_solver, 1e-10, 1000, symmetric=False)
+        if model.assembly not in ASSEMBLIES:
+            raise ValueError(f"unknown assembly {model.assembly!r}; allowed: "
+                             f"{sorted(ASSEMBLIES)}")
+        self.assembly = ASSEMBLIES[model.assembly](model, self.flow_faces, self.pressure_faces)
+        self.normals = np.asarray(grid.mesh.faceNormals).T.copy()  # (n_faces, dim)
+        self.momentum_solver = make_solver(model.momentum_solver, MOMENTUM_TOLERANCE,
+                                           MOMENTUM_ITERATIONS, symmetric=False)
         name = model.pressure_solver
         if name == "auto":
             name = pressure_solver_for(grid.n_cells, grid.axisymmetric)
-        self.pressure_solver = make_solver(name, model.pressure_tolerance, 2000, symmetric=True)
+        self.pressure_solver_name = name
+        self.pressure_solver = make_solver(name, model.pressure_tolerance, PRESSURE_ITERATIONS,
+                                           symmetric=True)
 
 
 # ---------------------------------------------------------------- discrete operators (numpy)
@@ -263,28 +241,58 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     """Advance ``state`` by ``dt`` (s) to the liquid region ``geometry`` (at t + dt)."""
     if not dt > 0:
         raise ValueError(f"time step must be > 0 s, got {dt}")
+    with single_blas_thread():
+        return _step(model, ops, state, geometry, dt)
+
+
+def _known(model, ops, state, geometry, dt):
+    """What the step knows before it solves: wall velocities (n_cells, dim) m/s, old port
+    pressures, old face and cell pressure gradients, gradient weights, port inflow at
+    t + dt (see :func:`step`)."""
+    g = model.grid
+    wall = geometry.wall_velocity[:, [0, 2]] if g.axisymmetric else geometry.wall_velocity
+    p_bc_old = port_values(model, ops, state.time)
+    grad_f_old = face_gradient(model, state.pressure, p_bc_old)
+    weights = gradient_weights(model, geometry)
+    grad_c_old = cell_gradient(model, grad_f_old, weights)
+    u_flow = _flow_port_velocity(model, ops, geometry.face_fraction, state.time + dt)
+    return wall, p_bc_old, grad_f_old, weights, grad_c_old, u_flow
+
+
+def step_inputs(model: FluidModel, ops: ProjectionOperators, state: FluidState,
+                geometry: Geometry, dt: float) -> tuple[MomentumInputs, PressureInputs]:
+    """The inputs of the two linear systems that :func:`step` fills for this step (the
+    pressure inputs after the momentum predictor has been solved)."""
+    wall, p_bc_old, grad_f_old, _, grad_c_old, u_flow = _known(model, ops, state, geometry, dt)
+    momentum = momentum_inputs(model, ops, state, geometry, wall, grad_c_old, u_flow, dt)
+    u_star, _ = _momentum_predictor(model, ops, state, geometry, wall, grad_c_old, u_flow, dt)
+    u_face = _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old,
+                             grad_f_old, u_flow, dt)
+    dp_ports = port_values(model, ops, state.time + dt) - p_bc_old
+    pressure, *_ = pressure_inputs(model, ops, state, geometry, u_face, dp_ports, dt)
+    return momentum, pressure
+
+
+def _step(model, ops, state, geometry, dt):
     g = model.grid
     rho = model.density
     t1 = state.time + dt
     beta = geometry.face_fraction
     fluid = geometry.fluid_centre
-    wall = geometry.wall_velocity[:, [0, 2]] if g.axisymmetric else geometry.wall_velocity
-    p_bc_old = port_values(model, ops, state.time)
+    wall, p_bc_old, grad_f_old, weights, grad_c_old, u_flow = _known(model, ops, state,
+                                                                     geometry, dt)
     p_bc_new = port_values(model, ops, t1)
-    grad_f_old = face_gradient(model, state.pressure, p_bc_old)
-    weights = gradient_weights(model, geometry)
-    grad_c_old = cell_gradient(model, grad_f_old, weights)
-    u_flow = _flow_port_velocity(model, ops, beta, t1)
 
     tic = _time.perf_counter()
-    u_star = _momentum_predictor(model, ops, state, geometry, wall, grad_c_old, u_flow, dt)
+    u_star, momentum_iterations = _momentum_predictor(model, ops, state, geometry, wall,
+                                                      grad_c_old, u_flow, dt)
     toc_momentum = _time.perf_counter() - tic
 
     tic = _time.perf_counter()
     u_face = _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old,
                              grad_f_old, u_flow, dt)
-    dp, dvol, coupled, mismatch = _pressure_correction(model, ops, state, geometry, u_face,
-                                                       p_bc_new - p_bc_old, dt)
+    dp, dvol, coupled, mismatch, info = _pressure_correction(
+        model, ops, state, geometry, u_face, p_bc_new - p_bc_old, dt)
     toc_pressure = _time.perf_counter() - tic
 
     dp_bc = np.where(ops.pressure_faces, p_bc_new - p_bc_old, np.nan)
@@ -300,31 +308,42 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     pressure = _extend_pressure(model, state.pressure + dp, coupled, p_bc_new, weights)
     new = FluidState(time=t1, cell_velocity=u_cell, face_velocity=u_face_new,
                      pressure=pressure, geometry=geometry)
-    return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure)
+    return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure,
+                           momentum_iterations, info.iterations, info.residual)
 
 
-def _momentum_predictor(model, ops, state, geometry, wall, grad_c_old, u_flow, dt):
-    """Step 1: u* (n_cells, dim) m/s, wall-centred cells at the wall velocity."""
+def momentum_inputs(model, ops, state, geometry, wall, grad_c_old, u_flow, dt):
+    """What fills the momentum systems of step 1 (see :class:`fluid.systems.MomentumInputs`)."""
     g = model.grid
     rho = model.density
     fluid = geometry.fluid_centre
     flux_old = state.face_velocity * geometry.face_fraction
-    normals = np.asarray(g.mesh.faceNormals)
-    ops.viscous_coeff.value = viscous_face_coefficient(model, geometry)
-    ops.flux_velocity.value = rho * flux_old[None, :] * normals
-    ops.flux_divergence.value = rho * net_outflow(model, flux_old * g.face_area) / g.cell_volume
     stiffest = max(rho / dt, model.viscosity / (THETA_MIN * g.spacing**2))
-    ops.pin.value = np.where(fluid, 0.0, PIN_FACTOR * stiffest)
-    for a in range(g.dim):
-        ops.pin_target[a].value = wall[:, a]
-        ops.pressure_gradient[a].value = grad_c_old[:, a]
-        ops.inflow[a].value = u_flow * normals[a]
-        ops.velocity[a].value = np.where(fluid, state.cell_velocity[:, a], wall[:, a])
-        ops.velocity[a].updateOld()
-        _solve_quietly(ops.momentum[a], ops.velocity[a], dt, ops.momentum_solver)
-    u_star = np.stack([np.asarray(ops.velocity[a].value) for a in range(g.dim)], axis=1)
+    start = np.where(fluid[:, None], state.cell_velocity, wall)
+    inputs = MomentumInputs(
+        dt=dt, face_viscosity=viscous_face_coefficient(model, geometry),
+        face_mass_flux=rho * flux_old,
+        cell_flux_divergence=rho * net_outflow(model, flux_old * g.face_area) / g.cell_volume,
+        cell_pin=np.where(fluid, 0.0, PIN_FACTOR * stiffest), cell_pin_velocity=wall,
+        cell_pressure_gradient=grad_c_old, face_inflow=u_flow[:, None] * ops.normals,
+        cell_velocity_old=start)
+    return inputs
+
+
+def _momentum_predictor(model, ops, state, geometry, wall, grad_c_old, u_flow, dt):
+    """Step 1: u* (n_cells, dim) m/s, wall-centred cells at the wall velocity; and the
+    largest number of iterations of the component solves."""
+    inputs = momentum_inputs(model, ops, state, geometry, wall, grad_c_old, u_flow, dt)
+    fluid = geometry.fluid_centre
+    start = inputs.cell_velocity_old
+    u_star = np.empty_like(start)
+    iterations = 0
+    for a, (matrix, rhs) in enumerate(ops.assembly.momentum(inputs)):
+        u_star[:, a], info = ops.momentum_solver.solve(matrix, rhs, start[:, a])
+        warn_if_unconverged(info, f"momentum component {a}")
+        iterations = max(iterations, info.iterations)
     u_star[~fluid] = wall[~fluid]
-    return u_star
+    return u_star, iterations
 
 
 def _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old, grad_f_old, u_flow,
@@ -357,9 +376,10 @@ def _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old, grad_
     return u_face
 
 
-def _pressure_correction(model, ops, state, geometry, u_face, dp_ports, dt):
-    """Step 3: the correction dp (n_cells,) Pa; also the cells' liquid-volume changes dvol
-    (FiPy m^3), the mask of cells in the pressure system and the volume mismatch (m^3/s)."""
+def pressure_inputs(model, ops, state, geometry, u_face, dp_ports, dt):
+    """What fills the pressure system of step 3 (:class:`fluid.systems.PressureInputs`); also
+    the cells' liquid-volume changes dvol (FiPy m^3), the mask of cells in the pressure
+    system and the volume mismatch (m^3/s)."""
     g = model.grid
     rho = model.density
     area_open = geometry.face_fraction * g.face_area
@@ -375,17 +395,26 @@ def _pressure_correction(model, ops, state, geometry, u_face, dp_ports, dt):
         pressure_pin[gauge] = pin_scale
         anchored = region[[gauge]]
     else:
-        ops.correction_bc.value = np.nan_to_num(dp_ports)
         wet_port = ops.pressure_faces & (geometry.face_fraction > 0)
         anchored = np.unique(region[g.face_cells[0][wet_port]])
     mismatch = _balance_regions(model, geometry, region, anchored, source, pressure_pin,
                                 pin_scale, flow_only=not ops.pressure_faces.any())
-    ops.pressure_coeff.value = geometry.face_fraction * dt / rho
-    ops.pressure_pin.value = pressure_pin
-    ops.pressure_source.value = source / g.cell_volume
-    ops.correction.value = 0.0
-    ops.pressure_eq.solve(var=ops.correction, solver=ops.pressure_solver)
-    return np.asarray(ops.correction.value).copy(), dvol, coupled, mismatch
+    inputs = PressureInputs(face_coefficient=geometry.face_fraction * dt / rho,
+                            cell_pin=pressure_pin, cell_source=source / g.cell_volume,
+                            face_boundary=dp_ports)
+    return inputs, dvol, coupled, mismatch
+
+
+def _pressure_correction(model, ops, state, geometry, u_face, dp_ports, dt):
+    """Step 3: the correction dp (n_cells,) Pa; also dvol, coupled and the mismatch (see
+    :func:`pressure_inputs`) and the solve's :class:`fluid.linear.SolveInfo`."""
+    inputs, dvol, coupled, mismatch = pressure_inputs(model, ops, state, geometry, u_face,
+                                                      dp_ports, dt)
+    matrix, rhs = ops.assembly.pressure(inputs)
+    # FiPy's sign convention makes the matrix negative definite: solve with -A, -b
+    dp, info = ops.pressure_solver.solve(-matrix, -rhs, np.zeros(model.grid.n_cells))
+    warn_if_unconverged(info, "pressure correction")
+    return dp, dvol, coupled, mismatch, info
 
 
 #: layers of cells outside the liquid that get an extrapolated pressure after each step
@@ -456,25 +485,6 @@ def _merge_dead_cells(model: FluidModel, dvol: np.ndarray, coupled: np.ndarray,
             dvol[nbrs[np.argmax(alpha[nbrs])]] += dvol[cell]
         dvol[cell] = 0.0
     return dvol
-
-
-def _solve_quietly(equation, var, dt, solver) -> None:
-    """FiPy solve without two harmless warnings: numpy's 0/0 in FiPy's Peclet number on faces
-    of zero area, and a Krylov 'breakdown' at a residual below 1e-14 (a system whose solution
-    is its initial guess, e.g. liquid at rest). Any other breakdown is repaired by solving again
-    with sparse LU; other solver warnings pass."""
-    with warnings.catch_warnings(record=True) as caught, \
-            np.errstate(invalid="ignore", divide="ignore"):
-        warnings.simplefilter("always")
-        equation.solve(var=var, dt=dt, solver=solver)
-    for w in caught:
-        text = str(w.message)
-        if "BREAKDOWN" in text:
-            if float(text.rsplit("residual=", 1)[-1]) >= 1e-14:
-                with np.errstate(invalid="ignore", divide="ignore"):
-                    equation.solve(var=var, dt=dt, solver=make_solver("lu", symmetric=False))
-            continue
-        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
 def _open_area(model: FluidModel, area_open: np.ndarray) -> np.ndarray:
