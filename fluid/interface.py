@@ -88,6 +88,36 @@ class Interface:
         return float(0.5 * (vmean * normal2).sum())
 
 
+#: connectivity data kept per distinct face array (a membrane keeps its faces for a run)
+_TOPOLOGY_CACHE: dict = {}
+_TOPOLOGY_CACHE_SIZE = 8
+
+
+def _edge_topology(faces):
+    """Of the triangles (m, 3): for each face edge k (joining face vertices k and k + 1,
+    flattened (3 m,)) its index among the distinct undirected edges, the number of faces on
+    each distinct edge, the rim-edge mask (m, 3), the rim vertex ids, and whether the
+    surface is closed (:func:`is_closed`). Kept per face array (it depends on the
+    connectivity only)."""
+    key = (faces.shape, faces.tobytes())
+    if key not in _TOPOLOGY_CACHE:
+        pairs = np.sort(np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2),
+                        axis=1)
+        _, inverse, count = np.unique(pairs, axis=0, return_inverse=True, return_counts=True)
+        inverse = inverse.ravel()
+        rim = count[inverse] == 1
+        if len(_TOPOLOGY_CACHE) >= _TOPOLOGY_CACHE_SIZE:
+            _TOPOLOGY_CACHE.pop(next(iter(_TOPOLOGY_CACHE)))
+        _TOPOLOGY_CACHE[key] = (inverse, count, rim.reshape(len(faces), 3),
+                                np.unique(pairs[rim].ravel()), _is_closed(faces))
+    return _TOPOLOGY_CACHE[key]
+
+
+def _scatter_rows(index, values, rows):
+    """(rows, 3) sums of ``values`` (k, 3) into rows ``index`` (k,)."""
+    return np.stack([np.bincount(index, values[:, c], rows) for c in range(3)], axis=1)
+
+
 def _pseudo_normals_3d(points, faces):
     """Unit face normals (m, 3), angle-weighted vertex normals (n, 3), per-face-edge
     normals (m, 3, 3) (edge k joins face vertices k and k+1; sum of the adjacent faces), and
@@ -102,16 +132,13 @@ def _pseudo_normals_3d(points, faces):
         e2 = corners[(k + 2) % 3] - corners[k]
         cosang = (e1 * e2).sum(1) / np.maximum(
             np.linalg.norm(e1, axis=1) * np.linalg.norm(e2, axis=1), 1e-300)
-        np.add.at(vertex, faces[:, k], n * np.arccos(np.clip(cosang, -1, 1))[:, None])
-    pairs = np.sort(np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
-    _, inverse, count = np.unique(pairs, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.ravel()
-    sums = np.zeros((len(count), 3))
-    np.add.at(sums, inverse, np.repeat(n, 3, axis=0))
+        vertex += _scatter_rows(faces[:, k], n * np.arccos(np.clip(cosang, -1, 1))[:, None],
+                                len(points))
+    inverse, count, rim_edge, rim_ids, _ = _edge_topology(faces)
+    sums = _scatter_rows(inverse, np.repeat(n, 3, axis=0), len(count))
     edge = sums[inverse].reshape(len(faces), 3, 3)
-    rim_edge = (count[inverse] == 1).reshape(len(faces), 3)
     rim_vertex = np.zeros(len(points), dtype=bool)
-    rim_vertex[pairs[count[inverse] == 1].ravel()] = True
+    rim_vertex[rim_ids] = True
     return n, vertex, edge, rim_edge, rim_vertex
 
 
@@ -275,8 +302,14 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
 def is_closed(faces: np.ndarray) -> bool:
     """True when every oriented edge (u, v) of the triangles is matched by as many (v, u):
     the surface has no boundary and the winding number is an integer off the surface."""
-    if faces.shape[1] != 3:
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    if faces.ndim != 2 or faces.shape[1] != 3:
         return False
+    return _edge_topology(faces)[4]
+
+
+def _is_closed(faces: np.ndarray) -> bool:
+    """:func:`is_closed` computed (uncached)."""
     edges = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
     forward, nf = np.unique(edges, axis=0, return_counts=True)
     backward, nb = np.unique(edges[:, ::-1], axis=0, return_counts=True)
@@ -397,6 +430,6 @@ def lattice_distance(interface: Interface, origin, spacing, shape, band: float,
         _band_triangles(origin, spacing, np.array(shape), band, interface.points,
                         interface.velocities, interface.faces, face_n, vert_n, edge_n, rim_edge,
                         rim_vertex, dist, vel)
-        if is_closed(interface.faces):
+        if _edge_topology(interface.faces)[4]:
             _winding_band(origin, spacing, dist, interface.points, interface.faces)
     return _flood_fill_sign(dist, barrier), vel

@@ -133,15 +133,20 @@ def cell_gradient(model: FluidModel, face_grad: np.ndarray, beta: np.ndarray) ->
     axis."""
     g = model.grid
     along = face_grad * g.face_sign * beta
-    num = np.zeros((g.n_cells, g.dim))
-    den = np.zeros((g.n_cells, g.dim))
-    p_cell, n_cell = g.face_cells
-    np.add.at(num, (p_cell, g.face_axis), along)
-    np.add.at(den, (p_cell, g.face_axis), beta)
-    inner = n_cell >= 0
-    np.add.at(num, (n_cell[inner], g.face_axis[inner]), along[inner])
-    np.add.at(den, (n_cell[inner], g.face_axis[inner]), beta[inner])
+    first, second, inner = _face_slots(g)
+    size = g.n_cells * g.dim
+    num = np.bincount(first, along, size) + np.bincount(second, along[inner], size)
+    den = np.bincount(first, beta, size) + np.bincount(second, beta[inner], size)
+    num, den = num.reshape(g.n_cells, g.dim), den.reshape(g.n_cells, g.dim)
     return np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+
+
+def _face_slots(g):
+    """Per face, the slot (cell, axis) of its first cell in a C-ordered (n_cells, dim)
+    array; the same for the second cell of the inner faces; the inner-face mask."""
+    p_cell, n_cell = g.face_cells
+    inner = n_cell >= 0
+    return p_cell * g.dim + g.face_axis, n_cell[inner] * g.dim + g.face_axis[inner], inner
 
 
 def net_outflow(model: FluidModel, face_flux: np.ndarray) -> np.ndarray:
@@ -149,11 +154,9 @@ def net_outflow(model: FluidModel, face_flux: np.ndarray) -> np.ndarray:
     FiPy's normals) out of each cell."""
     g = model.grid
     p_cell, n_cell = g.face_cells
-    out = np.zeros(g.n_cells)
-    np.add.at(out, p_cell, face_flux)
     inner = n_cell >= 0
-    np.add.at(out, n_cell[inner], -face_flux[inner])
-    return out
+    return np.bincount(p_cell, face_flux, g.n_cells) - \
+        np.bincount(n_cell[inner], face_flux[inner], g.n_cells)
 
 
 def interpolate_to_faces(model: FluidModel, cell_vec: np.ndarray,
@@ -435,27 +438,29 @@ def _extend_pressure(model: FluidModel, pressure: np.ndarray, coupled: np.ndarra
     p_cell, n_cell = g.face_cells
     inner = n_cell >= 0
     a, b = p_cell[inner], n_cell[inner]
+    n = g.n_cells
     for _ in range(GHOST_LAYERS):
-        total = np.zeros(g.n_cells)
-        count = np.zeros(g.n_cells)
+        total = np.zeros(n)
+        count = np.zeros(n)
         for src, dst in ((a, b), (b, a)):
             use = valid[src] & ~valid[dst]
             s_, d_ = src[use], dst[use]
             value = out[s_] + np.einsum("ij,ij->i", grad[s_],
                                         g.cell_centre[d_] - g.cell_centre[s_])
-            np.add.at(total, d_, value)
-            np.add.at(count, d_, 1.0)
+            total += np.bincount(d_, value, n)
+            count += np.bincount(d_, minlength=n)
         new = count > 0
         if not new.any():
             break
         out[new] = total[new] / count[new]
         # the new layer extrapolates with its neighbours' gradient
-        grad_new = np.zeros((g.n_cells, g.dim))
-        cnt = np.zeros(g.n_cells)
+        grad_new = np.zeros((n, g.dim))
+        cnt = np.zeros(n)
         for src, dst in ((a, b), (b, a)):
             use = valid[src] & new[dst]
-            np.add.at(grad_new, dst[use], grad[src[use]])
-            np.add.at(cnt, dst[use], 1.0)
+            for axis in range(g.dim):
+                grad_new[:, axis] += np.bincount(dst[use], grad[src[use], axis], n)
+            cnt += np.bincount(dst[use], minlength=n)
         grad[new] = grad_new[new] / cnt[new, None]
         valid |= new
     return out
