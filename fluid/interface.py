@@ -13,7 +13,9 @@ On a *closed* triangulated surface (every oriented edge cancelled by its reverse
 membrane closed by a can outside the tank) the signs in the band come from the generalized
 winding number instead (Jacobson, Kavan & Sorkine-Hornung 2013: the solid angle of the surface
 over 4 pi, 1 inside, 0 outside): it stays exact next to folds whose sheets touch or cross,
-where the closest point, and with it the pseudo-normal sign, jumps between sheets.
+where the closest point, and with it the pseudo-normal sign, jumps between sheets. On a closed
+surface that number is an integer, counted exactly by the signed crossings of a vertical ray
+(:func:`_winding_columns`, one pass over the faces for the whole lattice).
 Past the open rim of the surface (the membrane's clamped edge on the tank wall) the surface is
 continued flat: the value is the distance to the last face's plane (segment's line), so the
 level set stays linear where the rim meets the wall and the cut fractions there stay exact.
@@ -317,43 +319,80 @@ def _is_closed(faces: np.ndarray) -> bool:
         np.array_equal(forward, backward) and np.array_equal(nf, nb))
 
 
+@njit(**JIT, inline="always")
+def _edge_function(p, u, v, qx, qy):
+    """(x_v - x_u)(q_y - y_u) - (y_v - y_u)(q_x - x_u) in the x-y plane, evaluated from the
+    lower vertex id so that the edge taken the other way gives exactly the negated value."""
+    lo, hi, sign = (v, u, -1.0) if u > v else (u, v, 1.0)
+    return sign * ((p[hi, 0] - p[lo, 0]) * (qy - p[lo, 1])
+                   - (p[hi, 1] - p[lo, 1]) * (qx - p[lo, 0]))
+
+
+@njit(**JIT, inline="always")
+def _owns(p, u, v, w):
+    """A point with edge function ``w`` on the counter-clockwise edge u -> v belongs to the
+    triangle: inside (w > 0), or on the edge and the edge is a top or left one (the top-left
+    rule: of two triangles sharing the edge exactly one owns its points, and each point of a
+    plane tiled by triangles has exactly one owner)."""
+    if w != 0.0:
+        return w > 0.0
+    dx = p[v, 0] - p[u, 0]
+    dy = p[v, 1] - p[u, 1]
+    return dy < 0.0 or (dy == 0.0 and dx < 0.0)
+
+
 @njit(**JIT)
-def _winding_band(origin, spacing, dist, p, tri):
-    """Give every finite (in-band) entry of ``dist`` (3-D lattice) the sign of the generalized
-    winding number of the closed surface (p, tri) there: negative (liquid) where it exceeds
-    1/2. Solid angles by Van Oosterom & Strackee (1983)."""
-    ni, nj, nk = dist.shape
+def _winding_columns(origin, spacing, shape, p, tri):
+    """Winding number (int, ``shape``) of the closed surface (p, tri) on the 3-D lattice, by
+    signed crossings of the upward ray from below the surface to each lattice point: a face
+    whose normal points down is entered (+1), one whose normal points up is left (-1). Each
+    face adds its crossing to the first lattice point above it in every lattice column its
+    x-y projection owns (top-left rule, exact on shared edges and vertices); a running sum up
+    each column gives the number. Faces seen edge-on (no projected area) cross no ray."""
+    ni, nj, nk = shape[0], shape[1], shape[2]
+    delta = np.zeros((ni, nj, nk + 1), dtype=np.int32)
+    for f in range(tri.shape[0]):
+        a, b, c = tri[f, 0], tri[f, 1], tri[f, 2]
+        area2 = (p[b, 0] - p[a, 0]) * (p[c, 1] - p[a, 1]) \
+            - (p[b, 1] - p[a, 1]) * (p[c, 0] - p[a, 0])
+        if area2 == 0.0:
+            continue
+        crossing = 1 if area2 < 0.0 else -1
+        if area2 < 0.0:  # walk the projection counter-clockwise
+            b, c = c, b
+        lo_i = max(0, int(np.ceil((min(p[a, 0], p[b, 0], p[c, 0]) - origin[0]) / spacing[0])))
+        hi_i = min(ni - 1, int(np.floor((max(p[a, 0], p[b, 0], p[c, 0]) - origin[0])
+                                        / spacing[0])))
+        lo_j = max(0, int(np.ceil((min(p[a, 1], p[b, 1], p[c, 1]) - origin[1]) / spacing[1])))
+        hi_j = min(nj - 1, int(np.floor((max(p[a, 1], p[b, 1], p[c, 1]) - origin[1])
+                                        / spacing[1])))
+        for i in range(lo_i, hi_i + 1):
+            qx = origin[0] + i * spacing[0]
+            for j in range(lo_j, hi_j + 1):
+                qy = origin[1] + j * spacing[1]
+                wc = _edge_function(p, a, b, qx, qy)
+                wa = _edge_function(p, b, c, qx, qy)
+                wb = _edge_function(p, c, a, qx, qy)
+                if not (_owns(p, a, b, wc) and _owns(p, b, c, wa) and _owns(p, c, a, wb)):
+                    continue
+                total = wa + wb + wc
+                z = (wa * p[a, 2] + wb * p[b, 2] + wc * p[c, 2]) / total if total > 0.0 \
+                    else (p[a, 2] + p[b, 2] + p[c, 2]) / 3.0
+                k = int(np.floor((z - origin[2]) / spacing[2])) + 1
+                k = min(max(k, 0), nk)
+                while k > 0 and origin[2] + (k - 1) * spacing[2] > z:
+                    k -= 1
+                while k < nk and origin[2] + k * spacing[2] <= z:
+                    k += 1
+                delta[i, j, k] += crossing
+    wind = np.empty((ni, nj, nk), dtype=np.int32)
     for i in range(ni):
         for j in range(nj):
+            run = 0
             for k in range(nk):
-                d = dist[i, j, k]
-                if not np.isfinite(d):
-                    continue
-                qx = origin[0] + i * spacing[0]
-                qy = origin[1] + j * spacing[1]
-                qz = origin[2] + k * spacing[2]
-                total = 0.0
-                for f in range(tri.shape[0]):
-                    ax = p[tri[f, 0], 0] - qx
-                    ay = p[tri[f, 0], 1] - qy
-                    az = p[tri[f, 0], 2] - qz
-                    bx = p[tri[f, 1], 0] - qx
-                    by = p[tri[f, 1], 1] - qy
-                    bz = p[tri[f, 1], 2] - qz
-                    cx = p[tri[f, 2], 0] - qx
-                    cy = p[tri[f, 2], 1] - qy
-                    cz = p[tri[f, 2], 2] - qz
-                    la = np.sqrt(ax * ax + ay * ay + az * az)
-                    lb = np.sqrt(bx * bx + by * by + bz * bz)
-                    lc = np.sqrt(cx * cx + cy * cy + cz * cz)
-                    det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) \
-                        + az * (bx * cy - by * cx)
-                    den = (la * lb * lc + (ax * bx + ay * by + az * bz) * lc
-                           + (bx * cx + by * cy + bz * cz) * la
-                           + (cx * ax + cy * ay + cz * az) * lb)
-                    total += 2.0 * np.arctan2(det, den)
-                inside = total > 2.0 * np.pi  # winding number > 1/2
-                dist[i, j, k] = -abs(d) if inside else abs(d)
+                run += delta[i, j, k]
+                wind[i, j, k] = run
+    return wind
 
 
 def _flood_fill_sign(dist: np.ndarray, barrier: np.ndarray | None = None) -> np.ndarray:
@@ -431,5 +470,8 @@ def lattice_distance(interface: Interface, origin, spacing, shape, band: float,
                         interface.velocities, interface.faces, face_n, vert_n, edge_n, rim_edge,
                         rim_vertex, dist, vel)
         if _edge_topology(interface.faces)[4]:
-            _winding_band(origin, spacing, dist, interface.points, interface.faces)
+            inside = _winding_columns(origin, spacing, np.array(shape), interface.points,
+                                      interface.faces) >= 1
+            band = np.isfinite(dist)
+            dist[band] = np.where(inside[band], -np.abs(dist[band]), np.abs(dist[band]))
     return _flood_fill_sign(dist, barrier), vel
