@@ -176,21 +176,24 @@ class IQNILS(Acceleration):
 
 def _qr2_filter(V: np.ndarray, limit: float) -> np.ndarray:
     """Indices of the columns of V kept by a QR2 filter: Gram-Schmidt in order (newest first),
-    dropping a column whose orthogonal remainder is below ``limit`` times its norm."""
-    basis: list[np.ndarray] = []
+    dropping a column whose orthogonal remainder is below ``limit`` times its norm
+    (classical Gram-Schmidt against the kept basis, applied twice: CGS2)."""
+    basis = np.empty((V.shape[0], V.shape[1]))
+    kept = 0
     keep = []
     for j in range(V.shape[1]):
         v = V[:, j].copy()
         norm = np.linalg.norm(v)
         if norm == 0.0:
             continue
+        b = basis[:, :kept]
         for _ in range(2):  # re-orthogonalise once for stability
-            for b in basis:
-                v -= (b @ v) * b
+            v -= b @ (b.T @ v)
         rest = np.linalg.norm(v)
         if rest < limit * norm:
             continue
-        basis.append(v / rest)
+        basis[:, kept] = v / rest
+        kept += 1
         keep.append(j)
     return np.asarray(keep, dtype=int)
 

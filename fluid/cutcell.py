@@ -323,10 +323,17 @@ _KUHN = np.array([
     dtype=np.int64)
 
 
-@njit(**JIT)
-def cell_fractions_3d(x, y, z, phi_a, phi_b):
+def cell_fractions_3d(x, y, z, phi_a, phi_b, known=None):
     """Liquid fraction (nx, ny, nz) of every hexahedron of the lattice where phi_a and phi_b
-    (nx+1, ny+1, nz+1) are both negative."""
+    (nx+1, ny+1, nz+1) are both negative. ``known`` (nx, ny, nz): the fractions with phi_a
+    alone (NaN: not known), used where phi_b is negative at all eight corners."""
+    if known is None:
+        known = np.full((len(x) - 1, len(y) - 1, len(z) - 1), np.nan)
+    return _cell_fractions_3d(x, y, z, phi_a, phi_b, known)
+
+
+@njit(**JIT)
+def _cell_fractions_3d(x, y, z, phi_a, phi_b, known):
     nx = x.shape[0] - 1
     ny = y.shape[0] - 1
     nz = z.shape[0] - 1
@@ -361,6 +368,9 @@ def cell_fractions_3d(x, y, z, phi_a, phi_b):
                 if out_a == 8 or out_b == 8:
                     out[i, j, k] = 0.0
                     continue
+                if out_b == 0 and np.isfinite(known[i, j, k]):
+                    out[i, j, k] = known[i, j, k]
+                    continue
                 vol = 0.0
                 for t in range(6):
                     for r in range(4):
@@ -393,10 +403,26 @@ def _square_wet(u0, u1, v0, v1, a00, a10, a01, a11, b00, b10, b01, b11):
     return (s1 + s2) / ((u1 - u0) * (v1 - v0))
 
 
-@njit(**JIT)
-def face_fractions_3d(x, y, z, phi_a, phi_b):
+def face_fractions_3d(x, y, z, phi_a, phi_b, known=None):
     """Wetted fractions of the faces normal to x (nx+1, ny, nz), y (nx, ny+1, nz) and
-    z (nx, ny, nz+1)."""
+    z (nx, ny, nz+1). ``known``: the three arrays with phi_a alone (NaN: not known), used
+    where phi_b is negative at all four corners."""
+    nx, ny, nz = len(x) - 1, len(y) - 1, len(z) - 1
+    if known is None:
+        known = tuple(np.full(shape, np.nan) for shape in
+                      ((nx + 1, ny, nz), (nx, ny + 1, nz), (nx, ny, nz + 1)))
+    return _face_fractions_3d(x, y, z, phi_a, phi_b, known[0], known[1], known[2])
+
+
+@njit(**JIT, inline="always")
+def _face_wet(known, u0, u1, v0, v1, a00, a10, a01, a11, b00, b10, b01, b11):
+    if max(b00, b10, b01, b11) < 0.0 and np.isfinite(known):
+        return known
+    return _square_wet(u0, u1, v0, v1, a00, a10, a01, a11, b00, b10, b01, b11)
+
+
+@njit(**JIT)
+def _face_fractions_3d(x, y, z, phi_a, phi_b, kx, ky, kz):
     nx = x.shape[0] - 1
     ny = y.shape[0] - 1
     nz = z.shape[0] - 1
@@ -408,22 +434,22 @@ def face_fractions_3d(x, y, z, phi_a, phi_b):
     for i in range(nx + 1):
         for j in range(ny):
             for k in range(nz):
-                fx[i, j, k] = _square_wet(
-                    y[j], y[j + 1], z[k], z[k + 1],
+                fx[i, j, k] = _face_wet(
+                    kx[i, j, k], y[j], y[j + 1], z[k], z[k + 1],
                     A[i, j, k], A[i, j + 1, k], A[i, j, k + 1], A[i, j + 1, k + 1],
                     B[i, j, k], B[i, j + 1, k], B[i, j, k + 1], B[i, j + 1, k + 1])
     for i in range(nx):
         for j in range(ny + 1):
             for k in range(nz):
-                fy[i, j, k] = _square_wet(
-                    x[i], x[i + 1], z[k], z[k + 1],
+                fy[i, j, k] = _face_wet(
+                    ky[i, j, k], x[i], x[i + 1], z[k], z[k + 1],
                     A[i, j, k], A[i + 1, j, k], A[i, j, k + 1], A[i + 1, j, k + 1],
                     B[i, j, k], B[i + 1, j, k], B[i, j, k + 1], B[i + 1, j, k + 1])
     for i in range(nx):
         for j in range(ny):
             for k in range(nz + 1):
-                fz[i, j, k] = _square_wet(
-                    x[i], x[i + 1], y[j], y[j + 1],
+                fz[i, j, k] = _face_wet(
+                    kz[i, j, k], x[i], x[i + 1], y[j], y[j + 1],
                     A[i, j, k], A[i + 1, j, k], A[i, j + 1, k], A[i + 1, j + 1, k],
                     B[i, j, k], B[i + 1, j, k], B[i, j + 1, k], B[i + 1, j + 1, k])
     return fx, fy, fz

@@ -8,6 +8,7 @@ and the wall distance used by the viscous immersed boundary).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -45,13 +46,26 @@ def _lattice_coords(axes):
     return np.meshgrid(*axes, indexing="ij")
 
 
+@lru_cache(maxsize=8)
+def _container_lattices(grid: TankGrid, container):
+    """The container's level set on the vertex and centre lattices and, on a 3-D grid, its
+    cut fractions alone (cells, faces per axis): fixed for a run, computed once."""
+    phi_v = container.level_set(_lattice_coords(grid.vertex_axes))
+    phi_c = container.level_set(_lattice_coords(grid.centre_axes))
+    for array in (phi_v, phi_c):
+        array.setflags(write=False)
+    if grid.axisymmetric:
+        return phi_v, phi_c, None, None
+    dry = np.full(phi_v.shape, -1.0)
+    x, y, z = grid.vertex_axes
+    return phi_v, phi_c, cutcell.cell_fractions_3d(x, y, z, phi_v, dry), \
+        cutcell.face_fractions_3d(x, y, z, phi_v, dry)
+
+
 def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> Geometry:
     """Geometry of the liquid in ``container`` bounded by ``interface`` (None: tank full)."""
     h = grid.spacing
-    vert_coords = _lattice_coords(grid.vertex_axes)
-    cent_coords = _lattice_coords(grid.centre_axes)
-    phi_v = container.level_set(vert_coords)
-    phi_c = container.level_set(cent_coords)
+    phi_v, phi_c, cells_alone, faces_alone = _container_lattices(grid, container)
     wall_c = np.zeros(phi_c.shape + (3,))
     itf_v = np.full(phi_v.shape, -1.0)
     if interface is not None:
@@ -78,8 +92,9 @@ def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> 
         beta = grid.lattice_to_faces((faces[1], faces[0]))
     else:
         x, y, z = grid.vertex_axes
-        alpha = cutcell.cell_fractions_3d(x, y, z, phi_v, itf_v)
-        beta = grid.lattice_to_faces(cutcell.face_fractions_3d(x, y, z, phi_v, itf_v))
+        alpha = cutcell.cell_fractions_3d(x, y, z, phi_v, itf_v, cells_alone)
+        beta = grid.lattice_to_faces(cutcell.face_fractions_3d(x, y, z, phi_v, itf_v,
+                                                               faces_alone))
     alpha_cells = grid.lattice_to_cells(alpha)
     phi_cells = grid.lattice_to_cells(phi_c)
     wall_cells = wall_c.reshape(-1, 3)[grid.cell_lattice]

@@ -23,6 +23,7 @@ level set stays linear where the rim meets the wall and the cut fractions there 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numba import njit
@@ -64,6 +65,12 @@ class Interface:
     def is_meridian(self) -> bool:
         """True for an axisymmetric meridian (segments), False for a triangulated surface."""
         return self.faces.shape[1] == 2
+
+    @cached_property
+    def pseudo_normals(self) -> tuple:
+        """Of a triangulated surface: face, vertex and edge normals and the rim (see
+        :func:`_pseudo_normals_3d`), computed once per interface."""
+        return _pseudo_normals_3d(self.points, self.faces)
 
     def with_state(self, points: np.ndarray, velocities: np.ndarray) -> "Interface":
         """Same connectivity, new positions (n, 3) m and velocities (n, 3) m/s."""
@@ -463,8 +470,7 @@ def lattice_distance(interface: Interface, origin, spacing, shape, band: float,
     else:
         if interface.is_meridian:
             raise ValueError("a 3-D grid needs a triangulated interface ((m, 3) faces)")
-        face_n, vert_n, edge_n, rim_edge, rim_vertex = _pseudo_normals_3d(interface.points,
-                                                                          interface.faces)
+        face_n, vert_n, edge_n, rim_edge, rim_vertex = interface.pseudo_normals
         vel = np.zeros(shape + (3,))
         _band_triangles(origin, spacing, np.array(shape), band, interface.points,
                         interface.velocities, interface.faces, face_n, vert_n, edge_n, rim_edge,
