@@ -133,8 +133,10 @@ class KrylovSolver:
         def callback(_):
             count[0] += 1
 
+        extra = {"callback_type": "pr_norm"} if self.method is sla.gmres else {}
         x, info = self.method(matrix, rhs, x0=x0, rtol=self.tolerance, atol=0.0,
-                              maxiter=self.iterations, M=preconditioner, callback=callback)
+                              maxiter=self.iterations, M=preconditioner, callback=callback,
+                              **extra)
         return x, info, count[0]
 
     def solve(self, matrix, rhs, x0) -> tuple[np.ndarray, SolveInfo]:
@@ -166,7 +168,7 @@ class DirectSolver:
 
     REFINEMENTS = 10
 
-    def __init__(self, tolerance: float, iterations: int = 0):
+    def __init__(self, tolerance: float):
         self.tolerance = tolerance
 
     def solve(self, matrix, rhs, x0) -> tuple[np.ndarray, SolveInfo]:
@@ -192,7 +194,7 @@ def _krylov(method, preconditioner):
 
 #: name -> factory(tolerance, iterations) of a solver with ``solve(matrix, rhs, x0)``
 LINEAR_SOLVERS: dict[str, Callable] = {
-    "lu": DirectSolver,
+    "lu": lambda tolerance, iterations: DirectSolver(tolerance),
     "pcg": _krylov(sla.cg, "none"),
     "pcg-jacobi": _krylov(sla.cg, "jacobi"),
     "pcg-amg": _krylov(sla.cg, "amg"),

@@ -1,0 +1,80 @@
+"""The liquid step's linear solvers: FiPy's RHS criterion met by every registered solver, and
+kept preconditioners that still meet it on changed matrices and are rebuilt when they stop
+paying."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from fluid.linear import LINEAR_SOLVERS, SYMMETRIC_ONLY, make_solver
+
+TOLERANCE = 1e-10
+
+
+def poisson(n: int, pin: float = 1e-3, scale: np.ndarray | None = None):
+    """SPD 7-point Laplacian on an n^3 lattice with a small diagonal pin; ``scale`` (n^3,)
+    multiplies the face coefficients cell by cell (a changed interface)."""
+    one = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    eye = sp.identity(n)
+    a = sp.kron(sp.kron(one, eye), eye) + sp.kron(sp.kron(eye, one), eye) \
+        + sp.kron(sp.kron(eye, eye), one)
+    if scale is not None:
+        s = sp.diags(np.sqrt(scale))
+        a = s @ a @ s
+    return (a + pin * sp.identity(n**3)).tocsr()
+
+
+def convection_diffusion(n: int):
+    """Nonsymmetric, diagonally dominant (upwind) 1-D operator on n^3 unknowns, like the
+    momentum predictor's."""
+    m = n**3
+    return sp.diags([-1.5 * np.ones(m - 1), 4.0 * np.ones(m), -0.5 * np.ones(m - 1)],
+                    [-1, 0, 1]).tocsr()
+
+
+def _residual(a, x, b):
+    return np.linalg.norm(b - a @ x) / np.linalg.norm(b)
+
+
+@pytest.mark.parametrize("name", sorted(LINEAR_SOLVERS))
+def test_every_solver_meets_the_relative_residual(name):
+    rng = np.random.default_rng(1)
+    symmetric = name in SYMMETRIC_ONLY
+    a = poisson(8) if symmetric or name == "lu" else convection_diffusion(8)
+    b = rng.normal(size=a.shape[0])
+    solver = make_solver(name, TOLERANCE, 2000, symmetric=symmetric or name == "lu")
+    x, info = solver.solve(a, b, np.zeros_like(b))
+    assert _residual(a, x, b) <= TOLERANCE
+    assert info.residual == pytest.approx(_residual(a, x, b), rel=1e-6)
+
+
+@pytest.mark.parametrize("name", ["pcg-lu", "pcg-amg"])
+def test_a_kept_preconditioner_serves_changed_matrices_and_is_rebuilt_when_stale(name):
+    rng = np.random.default_rng(2)
+    n = 10
+    solver = make_solver(name, TOLERANCE, 2000, symmetric=True)
+    b = rng.normal(size=n**3)
+    first, info = solver.solve(poisson(n), b, np.zeros_like(b))
+    assert info.rebuilt and _residual(poisson(n), first, b) <= TOLERANCE
+    # a small change (a few cells' coefficients): the kept factors still converge, no rebuild
+    scale = np.ones(n**3)
+    scale[:20] = 1.3
+    changed = poisson(n, scale=scale)
+    x, info = solver.solve(changed, b, np.zeros_like(b))
+    assert not info.rebuilt and _residual(changed, x, b) <= TOLERANCE
+    # a large change: still the tolerance; the preconditioner is rebuilt on the next solves
+    far = poisson(n, scale=rng.uniform(0.01, 100.0, n**3))
+    rebuilt = []
+    for _ in range(3):
+        x, info = solver.solve(far, b, np.zeros_like(b))
+        assert _residual(far, x, b) <= TOLERANCE
+        rebuilt.append(info.rebuilt)
+    assert any(rebuilt)
+
+
+def test_bad_solver_names_are_refused():
+    with pytest.raises(ValueError, match="unknown linear solver 'magic'"):
+        make_solver("magic", symmetric=True)
+    with pytest.raises(ValueError, match="needs a symmetric system"):
+        make_solver("pcg-jacobi", symmetric=False)
