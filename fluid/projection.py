@@ -270,7 +270,7 @@ def step_inputs(model: FluidModel, ops: ProjectionOperators, state: FluidState,
     pressure inputs after the momentum predictor has been solved)."""
     wall, p_bc_old, grad_f_old, _, grad_c_old, u_flow = _known(model, ops, state, geometry, dt)
     momentum = momentum_inputs(model, ops, state, geometry, wall, grad_c_old, u_flow, dt)
-    u_star, _ = _momentum_predictor(model, ops, state, geometry, wall, grad_c_old, u_flow, dt)
+    u_star, _ = _momentum_predictor(ops, geometry, wall, momentum)
     u_face = _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old,
                              grad_f_old, u_flow, dt)
     dp_ports = port_values(model, ops, state.time + dt) - p_bc_old
@@ -288,8 +288,9 @@ def _step(model, ops, state, geometry, dt):
     wall, p_bc_old, grad_f_old, weights, grad_c_old, u_flow = _known(model, ops, state,
                                                                      geometry, dt)
     p_bc_new = port_values(model, ops, t1)
-    u_star, momentum_iterations = _momentum_predictor(model, ops, state, geometry, wall,
-                                                      grad_c_old, u_flow, dt)
+    u_star, momentum_iterations = _momentum_predictor(
+        ops, geometry, wall,
+        momentum_inputs(model, ops, state, geometry, wall, grad_c_old, u_flow, dt))
     toc_momentum = _time.perf_counter() - tic
 
     tic = _time.perf_counter()
@@ -324,20 +325,19 @@ def momentum_inputs(model, ops, state, geometry, wall, grad_c_old, u_flow, dt):
     flux_old = state.face_velocity * geometry.face_fraction
     stiffest = max(rho / dt, model.viscosity / (THETA_MIN * g.spacing**2))
     start = np.where(fluid[:, None], state.cell_velocity, wall)
-    inputs = MomentumInputs(
+    return MomentumInputs(
         dt=dt, face_viscosity=viscous_face_coefficient(model, geometry),
         face_mass_flux=rho * flux_old,
         cell_flux_divergence=rho * net_outflow(model, flux_old * g.face_area) / g.cell_volume,
         cell_pin=np.where(fluid, 0.0, PIN_FACTOR * stiffest), cell_pin_velocity=wall,
         cell_pressure_gradient=grad_c_old, face_inflow=u_flow[:, None] * ops.normals,
         cell_velocity_old=start)
-    return inputs
 
 
-def _momentum_predictor(model, ops, state, geometry, wall, grad_c_old, u_flow, dt):
-    """Step 1: u* (n_cells, dim) m/s, wall-centred cells at the wall velocity; and the
-    largest number of iterations of the component solves."""
-    inputs = momentum_inputs(model, ops, state, geometry, wall, grad_c_old, u_flow, dt)
+def _momentum_predictor(ops, geometry, wall, inputs: MomentumInputs):
+    """Step 1 from its inputs (:func:`momentum_inputs`): u* (n_cells, dim) m/s, wall-centred
+    cells at the wall velocity; and the largest number of iterations of the component
+    solves."""
     fluid = geometry.fluid_centre
     start = inputs.cell_velocity_old
     u_star = np.empty_like(start)
