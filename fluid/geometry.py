@@ -27,7 +27,11 @@ class Geometry:
     cell_fraction (n_cells,): liquid volume fraction alpha; face_fraction (n_faces,): wetted
     fraction beta of each face; centre_level (n_cells,): phi at the cell centre (m, < 0 in
     the liquid); wall_velocity (n_cells, 3): velocity of the nearest wall (m/s; the interface's
-    where it is the nearer boundary, zero at the tank wall); liquid_volume: sum alpha V (m^3).
+    where it is the nearer boundary, zero at the tank wall); liquid_volume: sum alpha V (m^3);
+    interface_level (n_cells,): the interface's own signed distance at the cell centre (m,
+    < 0 on the liquid side; far from it +-1e3 h; -1e3 h everywhere without an interface);
+    container_cell_fraction (n_cells,), container_face_fraction (n_faces,): the fractions of
+    the container alone (a free surface is not a wall: its cells keep the container's).
     """
 
     cell_fraction: np.ndarray
@@ -35,6 +39,9 @@ class Geometry:
     centre_level: np.ndarray
     wall_velocity: np.ndarray
     liquid_volume: float
+    interface_level: np.ndarray | None = None
+    container_cell_fraction: np.ndarray | None = None
+    container_face_fraction: np.ndarray | None = None
 
     @property
     def fluid_centre(self) -> np.ndarray:
@@ -54,12 +61,26 @@ def _container_lattices(grid: TankGrid, container):
     phi_c = container.level_set(_lattice_coords(grid.centre_axes))
     for array in (phi_v, phi_c):
         array.setflags(write=False)
-    if grid.axisymmetric:
-        return phi_v, phi_c, None, None
     dry = np.full(phi_v.shape, -1.0)
+    if grid.axisymmetric:
+        r, z = grid.vertex_axes
+        faces = cutcell.face_fractions_2d(r, z, phi_v, dry, True)
+        return phi_v, phi_c, cutcell.cell_fractions_2d(r, z, phi_v, dry, True), \
+            (faces[1], faces[0])
     x, y, z = grid.vertex_axes
     return phi_v, phi_c, cutcell.cell_fractions_3d(x, y, z, phi_v, dry), \
         cutcell.face_fractions_3d(x, y, z, phi_v, dry)
+
+
+@lru_cache(maxsize=8)
+def _container_fractions(grid: TankGrid, container):
+    """The container's own cell (n_cells,) and face (n_faces,) fractions, read-only."""
+    _, _, cells_alone, faces_alone = _container_lattices(grid, container)
+    cells = grid.lattice_to_cells(cells_alone)
+    faces = grid.lattice_to_faces(faces_alone)
+    for array in (cells, faces):
+        array.setflags(write=False)
+    return cells, faces
 
 
 def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> Geometry:
@@ -68,6 +89,7 @@ def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> 
     phi_v, phi_c, cells_alone, faces_alone = _container_lattices(grid, container)
     wall_c = np.zeros(phi_c.shape + (3,))
     itf_v = np.full(phi_v.shape, -1.0)
+    itf_c = np.full(phi_c.shape, -1e3 * h)
     if interface is not None:
         band = DISTANCE_BAND_CELLS * h
         lower_v = [a[0] for a in grid.vertex_axes]
@@ -81,6 +103,7 @@ def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> 
         # outside the band only the sign matters (no cut cell has a vertex there)
         itf_v = np.where(np.isfinite(d_v), d_v, np.sign(d_v) * 1e3 * h)
         d_c = np.where(np.isfinite(d_c), d_c, np.sign(d_c) * 1e3 * h)
+        itf_c = d_c
         interface_wins = d_c > phi_c
         wall_c = np.where(interface_wins[..., None], vel_c, 0.0)
         phi_c = np.maximum(phi_c, d_c)
@@ -99,4 +122,6 @@ def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> 
     phi_cells = grid.lattice_to_cells(phi_c)
     wall_cells = wall_c.reshape(-1, 3)[grid.cell_lattice]
     volume = float((alpha_cells * grid.cell_volume).sum() * grid.volume_factor())
-    return Geometry(alpha_cells, beta, phi_cells, wall_cells, volume)
+    container_cells, container_faces = _container_fractions(grid, container)
+    return Geometry(alpha_cells, beta, phi_cells, wall_cells, volume,
+                    grid.lattice_to_cells(itf_c), container_cells, container_faces)

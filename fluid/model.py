@@ -66,6 +66,9 @@ class FluidModel:
     (``auto`` for the pressure: the fastest measured for the grid, see
     :func:`fluid.linear.pressure_solver_for`);
     pressure_tolerance: relative residual of the pressure solve;
+    interface_condition: 'wall' (the interface is a moving wall: its motion is given, the
+    liquid's pressure on it is the answer) or 'free' (a free surface at the gas pressure: the
+    liquid's velocity at it is the answer, :mod:`fluid.free_surface`);
     assembly: who builds the linear systems, a name in :data:`fluid.systems.ASSEMBLIES`
     ('direct': laid out once, refilled each step; 'fipy': FiPy's terms, rebuilt each step;
     the two give the same matrices, see :mod:`fluid.assembly`).
@@ -82,6 +85,7 @@ class FluidModel:
     pressure_solver: str = "auto"
     pressure_tolerance: float = 1e-10
     assembly: str = "direct"
+    interface_condition: str = "wall"
 
     def __post_init__(self):
         if not self.density > 0:

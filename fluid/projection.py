@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import time as _time
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 from scipy import sparse
@@ -85,6 +86,9 @@ class ProjectionOperators:
             faces = grid.boundary_faces(port.side)
             self.port_faces.append(faces)
             (self.flow_faces if port.kind == "flow" else self.pressure_faces)[faces] = True
+        if model.interface_condition not in STEPPERS:
+            raise ValueError(f"unknown interface condition {model.interface_condition!r}; "
+                             f"allowed: {sorted(STEPPERS)}")
         if model.assembly not in ASSEMBLIES:
             raise ValueError(f"unknown assembly {model.assembly!r}; allowed: "
                              f"{sorted(ASSEMBLIES)}")
@@ -227,27 +231,45 @@ def _flow_port_velocity(model: FluidModel, ops: ProjectionOperators, beta: np.nd
 
 def initial_state(model: FluidModel, ops: ProjectionOperators, geometry: Geometry,
                   time: float = 0.0) -> FluidState:
-    """Liquid at rest (tank frame) in hydrostatic equilibrium: p_red uniform, equal to the
-    first pressure port's value (0 with flow ports only)."""
+    """Liquid at rest (tank frame) in hydrostatic equilibrium: p_red uniform, given by the
+    stepper (the wall's: the first pressure port's value, 0 with flow ports only)."""
     g = model.grid
-    bc = port_values(model, ops, time)
-    level = 0.0
-    for port, faces in zip(model.ports, ops.port_faces):
-        if port.kind == "pressure":
-            level = float(np.mean(bc[faces]))
-            break
+    pressure = STEPPERS[model.interface_condition].initial_pressure(model, ops, geometry, time)
     return FluidState(time=time, cell_velocity=np.zeros((g.n_cells, g.dim)),
-                      face_velocity=np.zeros(g.n_faces), pressure=np.full(g.n_cells, level),
-                      geometry=geometry)
+                      face_velocity=np.zeros(g.n_faces), pressure=pressure, geometry=geometry)
+
+
+@dataclass(frozen=True)
+class Stepper:
+    """How the liquid meets its interface: ``step(model, ops, state, geometry, dt)`` ->
+    (state, report) and ``initial_pressure(model, ops, geometry, time)`` -> (n_cells,) Pa,
+    the reduced pressure of the liquid at rest."""
+
+    step: Callable
+    initial_pressure: Callable
+
+
+#: ``FluidModel.interface_condition`` -> :class:`Stepper` ('wall': the moving wall of this
+#: module; 'free': the free surface of :mod:`fluid.free_surface`)
+STEPPERS: dict[str, Stepper] = {}
+
+
+def register_stepper(name: str, initial_pressure: Callable):
+    """Decorator: register a step function and its initial pressure under ``name``."""
+    def register(func):
+        STEPPERS[name] = Stepper(func, initial_pressure)
+        return func
+    return register
 
 
 def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometry: Geometry,
          dt: float) -> tuple[FluidState, StepReport]:
-    """Advance ``state`` by ``dt`` (s) to the liquid region ``geometry`` (at t + dt)."""
+    """Advance ``state`` by ``dt`` (s) to the liquid region ``geometry`` (at t + dt), by the
+    stepper of the model's interface condition."""
     if not dt > 0:
         raise ValueError(f"time step must be > 0 s, got {dt}")
     with single_blas_thread():
-        return _step(model, ops, state, geometry, dt)
+        return STEPPERS[model.interface_condition].step(model, ops, state, geometry, dt)
 
 
 def _known(model, ops, state, geometry, dt):
@@ -278,6 +300,18 @@ def step_inputs(model: FluidModel, ops: ProjectionOperators, state: FluidState,
     return momentum, pressure
 
 
+def _port_level(model, ops, geometry, time):
+    """(n_cells,) the first pressure port's value (0 with flow ports only), uniform."""
+    bc = port_values(model, ops, time)
+    level = 0.0
+    for port, faces in zip(model.ports, ops.port_faces):
+        if port.kind == "pressure":
+            level = float(np.mean(bc[faces]))
+            break
+    return np.full(model.grid.n_cells, level)
+
+
+@register_stepper("wall", _port_level)
 def _step(model, ops, state, geometry, dt):
     tic = _time.perf_counter()
     g = model.grid

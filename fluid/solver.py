@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import free_surface as _free_surface  # noqa: F401  (registers the "free" stepper)
 from .geometry import Geometry, compute_geometry
 from .interface import Interface
 from .model import FluidModel, FluidState
@@ -91,6 +92,27 @@ class FluidSolver:
         reduced = sample_cells(self.model.grid, self.state.pressure,
                                self.state.geometry.cell_fraction, points)
         return reduced + self.model.body_potential(points, self.state.time) + level
+
+    def velocity_at(self, points: np.ndarray) -> np.ndarray:
+        """Liquid velocity (n, 3) m/s at ``points`` (n, 3) m, from the cells whose centre is
+        in the liquid (a linear fit over the block around each point, so points just
+        outside the liquid, e.g. on a free surface, get the linear extension); zero where no
+        such cell is near."""
+        points = np.asarray(points, dtype=float)
+        g = self.model.grid
+        weight = self.state.geometry.fluid_centre.astype(float)
+        parts = [sample_cells(g, self.state.cell_velocity[:, a], weight, points, 0.5)
+                 for a in range(g.dim)]
+        out = np.zeros((len(points), 3))
+        if g.axisymmetric:
+            r = np.hypot(points[:, 0], points[:, 1])
+            safe = np.where(r > 0, r, 1.0)
+            out[:, 0] = parts[0] * np.where(r > 0, points[:, 0] / safe, 1.0)
+            out[:, 1] = parts[0] * np.where(r > 0, points[:, 1] / safe, 0.0)
+            out[:, 2] = parts[1]
+        else:
+            out[:] = np.stack(parts, axis=1)
+        return np.nan_to_num(out)
 
     def interface_pressure(self, level: float = 0.0) -> np.ndarray:
         """Pressure (n,) Pa at the current interface points (liquid side)."""

@@ -1,0 +1,289 @@
+"""The liquid step with a free surface: the interface is the liquid's surface at the gas pressure.
+
+The interface of :mod:`fluid.projection` is a moving wall: the caller gives its motion and
+reads back the pressure on it (Dirichlet-Neumann coupling). A surface that carries no pressure
+jump (a free surface, or a limp, slack membrane lying on one) is the opposite: the liquid is
+told the pressure there and the surface moves with the liquid (kinematic condition), so the
+caller gives the surface's position and reads back the liquid's velocity at it. A massless
+membrane coupled the first way has an infinite added-mass ratio and no partitioned iteration
+converges (Causin, Gerbeau & Nobile 2005); coupled this way there is nothing to iterate.
+
+The step is the projection step of :mod:`fluid.projection` (same predictor, same Rhie-Chow
+faces, same cut cells at the tank wall) with three differences at the surface:
+
+* the pressure unknowns are the cells the container wets whose centre lies on the liquid side
+  of the surface (interface level d < 0); the surface is a Dirichlet boundary of the
+  pressure, p = p_gas (gauge 0), i.e. reduced p_red = -rho b(t) . x_s, imposed on each face
+  between a liquid-centre cell P and a gas-centre cell G at the crossing
+  x_s = x_P + theta (x_G - x_P), theta = d_P / (d_P - d_G) (Gibou, Fedkiw, Cheng & Kang 2002:
+  the ghost-fluid Dirichlet condition, second order), theta >= ``THETA_MIN``;
+* faces and cells keep the container's fractions (the surface is not a wall): the liquid
+  flows through the surface faces, and the caller moves the surface with the liquid;
+* no viscous stress crosses the surface (mu = 0 on its faces: stress-free to first order),
+  and gas-centre cells hold the surface velocity (the caller's node velocities: the liquid's,
+  extended along the normal) as the predictor's pin.
+
+The incremental pressure keeps the surface condition in both parts: the old gradient uses
+p_s(t^n) at the new surface, the correction dp_s = p_s(t^{n+1}) - p_s(t^n) there.
+"""
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .geometry import Geometry
+from .linear import warn_if_unconverged
+from .model import FluidModel, FluidState
+from .projection import (THETA_MIN, GHOST_LAYERS, ProjectionOperators, StepReport,
+                         _balance_regions, _extend_pressure, _face_predictor,
+                         _flow_port_velocity, _liquid_regions, _momentum_predictor,
+                         _open_area, cell_gradient, face_gradient, momentum_inputs, net_outflow,
+                         port_values, register_stepper)
+from .systems import PressureInputs
+
+
+@dataclass(frozen=True)
+class Surface:
+    """The free surface on the grid at one instant: ``wet`` (n_cells,) pressure unknowns;
+    ``faces`` (k,) the faces between a wet cell and a gas-centre cell, ``cell`` (k,) the
+    wet cell of each, ``first`` (k,) bool: it is the face's first cell (FiPy's normal points
+    away from it), ``theta`` (k,) the surface's fractional distance from its centre,
+    ``point`` (k, 3) m the crossing; ``view``: the geometry as the shared parts of the step
+    see it (container fractions on the faces and cells of the liquid, surface cells pinned
+    to the surface velocity)."""
+
+    wet: np.ndarray
+    faces: np.ndarray
+    cell: np.ndarray
+    first: np.ndarray
+    theta: np.ndarray
+    point: np.ndarray
+    view: Geometry
+
+    def reduced_pressure(self, model: FluidModel, time: float) -> np.ndarray:
+        """(k,) Pa: the gas pressure (gauge 0) as reduced pressure at the crossings."""
+        return -model.body_potential(self.point, time)
+
+    def conductance(self, model: FluidModel) -> np.ndarray:
+        """(k,) m: wetted area over the distance from the wet centre to the surface."""
+        g = model.grid
+        return self.view.face_fraction[self.faces] * g.face_area[self.faces] / \
+            (self.theta * g.face_distance[self.faces])
+
+
+def surface_of(model: FluidModel, geometry: Geometry) -> Surface:
+    """The :class:`Surface` of a geometry computed with an interface."""
+    g = model.grid
+    if geometry.interface_level is None:
+        raise ValueError("a free-surface step needs a geometry with the interface level")
+    d = geometry.interface_level
+    beta_c = geometry.container_face_fraction
+    alpha_c = geometry.container_cell_fraction
+    area = beta_c * g.face_area
+    wet = (d < 0) & ((alpha_c > 0) | (_open_area(model, area) > 0))
+    p_cell, n_cell = g.face_cells
+    inner = np.flatnonzero(n_cell >= 0)
+    a, b = p_cell[inner], n_cell[inner]
+    cross = (beta_c[inner] > 0) & (wet[a] != wet[b]) & ((d[a] >= 0) | (d[b] >= 0))
+    faces = inner[cross]
+    first = wet[a[cross]]
+    cell = np.where(first, a[cross], b[cross])
+    gas = np.where(first, b[cross], a[cross])
+    theta = np.clip(d[cell] / (d[cell] - d[gas]), THETA_MIN, 1.0)
+    centre = model.grid_points(g.cell_centre)
+    point = centre[cell] + theta[:, None] * (centre[gas] - centre[cell])
+    # the faces of the liquid (a wet cell on at least one side) at the container's fraction
+    touches = wet[p_cell].copy()
+    touches[inner] |= wet[n_cell[inner]]
+    view = replace(geometry, face_fraction=np.where(touches, beta_c, 0.0),
+                   cell_fraction=np.where(wet, alpha_c, 0.0))
+    return Surface(wet, faces, cell, first, theta, point, view)
+
+
+def surface_gradient(model: FluidModel, surface: Surface, cell_values: np.ndarray,
+                     boundary: np.ndarray, surface_values: np.ndarray) -> np.ndarray:
+    """:func:`fluid.projection.face_gradient` with the surface faces' Dirichlet values
+    ``surface_values`` (k,) at the crossings."""
+    out = face_gradient(model, cell_values, boundary)
+    dist = surface.theta * model.grid.face_distance[surface.faces]
+    towards = (surface_values - cell_values[surface.cell]) / dist
+    out[surface.faces] = np.where(surface.first, towards, -towards)
+    return out
+
+
+def surface_weights(model: FluidModel, surface: Surface) -> np.ndarray:
+    """(n_faces,) weights of the cell-gradient reconstruction: the wetted fraction times the
+    smaller cell fraction of two wet cells (as :func:`fluid.projection.gradient_weights`),
+    the wet cell's on a surface face, 0 elsewhere."""
+    g = model.grid
+    alpha = surface.view.cell_fraction
+    beta = surface.view.face_fraction
+    p_cell, n_cell = g.face_cells
+    inner = n_cell >= 0
+    smaller = np.where(surface.wet[p_cell], alpha[p_cell], 0.0)
+    both = inner.copy()
+    both[inner] = surface.wet[p_cell[inner]] & surface.wet[n_cell[inner]]
+    smaller[inner] = np.where(both[inner], np.minimum(alpha[p_cell[inner]],
+                                                      alpha[n_cell[inner]]), 0.0)
+    smaller[surface.faces] = alpha[surface.cell]
+    return beta * smaller
+
+
+def initial_pressure(model: FluidModel, ops, geometry: Geometry, time: float = 0.0) -> np.ndarray:
+    """(n_cells,) reduced pressure of the liquid at rest under a level surface: uniform, the
+    area-weighted mean of the surface's value (Pa)."""
+    surface = surface_of(model, geometry)
+    if len(surface.faces) == 0:
+        return np.zeros(model.grid.n_cells)
+    weight = surface.conductance(model) * surface.theta
+    return np.full(model.grid.n_cells,
+                   float(np.average(surface.reduced_pressure(model, time), weights=weight)))
+
+
+@register_stepper("free", initial_pressure)
+def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometry: Geometry,
+         dt: float) -> tuple[FluidState, StepReport]:
+    """Advance ``state`` by ``dt`` (s) to the liquid under the surface ``geometry`` (at
+    t + dt); see the module doc."""
+    tic = _time.perf_counter()
+    g = model.grid
+    rho = model.density
+    t0, t1 = state.time, state.time + dt
+    surface = surface_of(model, geometry)
+    old = surface_of(model, state.geometry)
+    view = surface.view
+    fluid = view.fluid_centre
+    wall = view.wall_velocity[:, [0, 2]] if g.axisymmetric else view.wall_velocity
+    p_bc_old = port_values(model, ops, t0)
+    p_s_old = surface.reduced_pressure(model, t0)
+    grad_f_old = surface_gradient(model, surface, state.pressure, p_bc_old, p_s_old)
+    weights = surface_weights(model, surface)
+    grad_c_old = cell_gradient(model, grad_f_old, weights)
+    u_flow = _flow_port_velocity(model, ops, view.face_fraction, t1)
+    momentum = momentum_inputs(model, ops, state, view, wall, grad_c_old, u_flow, dt)
+    viscosity = momentum.face_viscosity.copy()
+    viscosity[surface.faces] = 0.0
+    u_star, momentum_iterations = _momentum_predictor(
+        ops, view, wall, replace(momentum, face_viscosity=viscosity))
+    toc_momentum = _time.perf_counter() - tic
+
+    tic = _time.perf_counter()
+    old_view = replace(state.geometry, face_fraction=old.view.face_fraction,
+                       cell_fraction=old.view.cell_fraction)
+    u_face = _face_predictor(model, ops, replace(state, geometry=old_view), view, wall, u_star,
+                             grad_c_old, grad_f_old, u_flow, dt)
+    p_bc_new = port_values(model, ops, t1)
+    dp_s = surface.reduced_pressure(model, t1) - p_s_old
+    inputs, mismatch = _pressure_inputs(model, ops, surface, u_face, p_bc_new - p_bc_old, dp_s,
+                                        dt)
+    matrix, rhs = ops.assembly.pressure(inputs)
+    dp, info = ops.pressure_solver.solve(-matrix, -rhs, np.zeros(g.n_cells))
+    warn_if_unconverged(info, "pressure correction")
+
+    dp_bc = np.where(ops.pressure_faces, p_bc_new - p_bc_old, np.nan)
+    grad_f = surface_gradient(model, surface, dp, dp_bc, dp_s)
+    beta = view.face_fraction
+    u_face_new = u_face - dt / rho * grad_f
+    u_face_new[ops.flow_faces] = u_flow[ops.flow_faces]
+    u_face_new[beta == 0] = 0.0
+    u_cell = u_star - dt / rho * cell_gradient(model, grad_f, weights)
+    u_cell[~fluid] = wall[~fluid]
+    residual = net_outflow(model, beta * g.face_area * u_face_new)
+    wet = surface.wet
+    divergence = float(np.max(np.abs(residual[wet]) / g.cell_volume[wet])) if wet.any() else 0.0
+    pressure = _extend(model, surface, state.pressure + dp, p_bc_new,
+                       surface.reduced_pressure(model, t1), weights)
+    new = FluidState(time=t1, cell_velocity=u_cell, face_velocity=u_face_new,
+                     pressure=pressure, geometry=geometry)
+    toc_pressure = _time.perf_counter() - tic
+    return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure,
+                           momentum_iterations, info.iterations, info.residual)
+
+
+def _pressure_inputs(model, ops, surface: Surface, u_face, dp_ports, dp_surface, dt):
+    """The pressure system: the container's wetted faces between wet cells, the surface faces
+    as Dirichlet conditions (on the diagonal and the right-hand side), no volume source (the
+    container does not move). Returns the inputs and the volume mismatch (m^3/s) of regions
+    the surface does not reach."""
+    g = model.grid
+    rho = model.density
+    view = surface.view
+    wet = surface.wet
+    beta = view.face_fraction.copy()
+    source = net_outflow(model, beta * g.face_area * u_face)
+    pin_scale = dt / rho * 2 * g.dim / g.spacing**2
+    pressure_pin = np.where(wet, 0.0, pin_scale)
+    k = dt / rho * surface.conductance(model)
+    pressure_pin += np.bincount(surface.cell, k, g.n_cells) / g.cell_volume
+    source -= np.bincount(surface.cell, k * dp_surface, g.n_cells)
+    beta[surface.faces] = 0.0  # their flux is the Dirichlet term above
+    region = _liquid_regions(model, replace(view, face_fraction=beta), wet)
+    anchored = np.unique(region[surface.cell])
+    if ops.pressure_faces.any():
+        wet_port = ops.pressure_faces & (view.face_fraction > 0)
+        anchored = np.union1d(anchored, region[g.face_cells[0][wet_port]])
+    mismatch = _balance_regions(model, view, region, anchored, source, pressure_pin, pin_scale,
+                                flow_only=False)
+    inputs = PressureInputs(face_coefficient=beta * dt / rho, cell_pin=pressure_pin,
+                            cell_source=source / g.cell_volume, face_boundary=dp_ports)
+    return inputs, mismatch
+
+
+def _extend(model, surface: Surface, pressure, boundary, surface_values, weights):
+    """Pressure in the gas-centre cells next to the liquid: across each surface face the
+    value on the line through the wet cell's and the surface's (the ghost value of the
+    Dirichlet condition, averaged over a cell's faces), then ``GHOST_LAYERS`` - 1 more layers
+    extrapolated as :func:`fluid.projection._extend_pressure` does."""
+    g = model.grid
+    out = pressure.copy()
+    gas = np.where(surface.first, g.face_cells[1][surface.faces],
+                   g.face_cells[0][surface.faces])
+    ghost = pressure[surface.cell] + (surface_values - pressure[surface.cell]) / surface.theta
+    count = np.bincount(gas, minlength=g.n_cells)
+    total = np.bincount(gas, ghost, g.n_cells)
+    layer = count > 0
+    out[layer] = total[layer] / count[layer]
+    known = surface.wet | layer
+    if GHOST_LAYERS > 1:
+        out = _extend_pressure(model, out, known, boundary, weights)
+    return out
+
+
+def column_rates(model: FluidModel, state: FluidState) -> tuple[np.ndarray, np.ndarray]:
+    """How fast the surface rises over each vertical column of cells of a 3-D grid:
+    ((nx, ny) m/s, (nx, ny) bool: the column has surface faces).
+
+    The liquid leaving through a column's surface faces (the flux of the last step's
+    face velocities, which conserve volume exactly) over the column's open cross-section
+    there (the wetted fraction of its horizontal surface faces, at least
+    ``MIN_COLUMN_FRACTION``): the kinematic condition of a surface that is a height
+    function z = eta(x, y), in the volume-conserving form of the height-function methods
+    (the flux through a side surface face, into a column whose surface is lower, raises
+    that column)."""
+    g = model.grid
+    if g.axisymmetric:
+        raise ValueError("column rates need a 3-D grid")
+    surface = surface_of(model, state.geometry)
+    faces = surface.faces
+    beta = surface.view.face_fraction[faces]
+    u = state.face_velocity[faces]
+    outflow = np.where(surface.first, u, -u) * beta * g.face_area[faces]
+    gas = np.where(surface.first, g.face_cells[1][faces], g.face_cells[0][faces])
+    vertical = g.face_axis[faces] == g.vertical_axis
+    column_cell = np.where(vertical, surface.cell, gas)
+    nx, ny = g.shape[0], g.shape[1]
+    ij = np.unravel_index(g.cell_lattice[column_cell], g.shape)
+    column = ij[0] * ny + ij[1]
+    flux = np.bincount(column, outflow, nx * ny)
+    area = np.bincount(column[vertical], beta[vertical] * g.face_area[faces][vertical],
+                       nx * ny)
+    area = np.maximum(area, MIN_COLUMN_FRACTION * g.spacing**2)
+    has = np.bincount(column, minlength=nx * ny) > 0
+    rate = np.where(has, flux / area, 0.0)
+    return rate.reshape(nx, ny), has.reshape(nx, ny)
+
+
+#: smallest open cross-section of a surface column, as a fraction of a cell face
+MIN_COLUMN_FRACTION = 0.05
