@@ -588,3 +588,8 @@ def _gauge_cell(model: FluidModel, ops: ProjectionOperators, geometry: Geometry)
         if len(cells):
             return int(cells[np.argmax(geometry.cell_fraction[cells])])
     return int(np.argmax(geometry.cell_fraction))
+
+
+# the free-surface stepper registers itself here, so that every interface condition is known
+# wherever the registry is (it imports this module's helpers, hence the import at the end)
+from . import free_surface as _free_surface  # noqa: E402,F401

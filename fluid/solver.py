@@ -20,7 +20,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import free_surface as _free_surface  # noqa: F401  (registers the "free" stepper)
 from .geometry import Geometry, compute_geometry
 from .interface import Interface
 from .model import FluidModel, FluidState
