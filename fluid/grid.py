@@ -83,6 +83,25 @@ class TankGrid:
         return tuple(self.lower[a] + self.spacing * (np.arange(self.shape[a]) + 0.5)
                      for a in range(self.dim))
 
+    @cached_property
+    def face_above(self) -> np.ndarray:
+        """(n_faces,) the face of the same axis one cell up (+z) from each face; -1 where
+        there is none (the grid's top face, the side faces of its top layer of cells)."""
+        up = self.vertical_axis
+        out = np.full(self.n_faces, -1, dtype=np.int64)
+        for a in range(self.dim):
+            sel = np.flatnonzero(self.face_axis == a)
+            shape = list(self.shape)
+            shape[a] += 1
+            lookup = np.full(int(np.prod(shape)), -1, dtype=np.int64)
+            lookup[self.face_lattice[sel]] = sel
+            index = self.face_index[sel].copy()
+            index[:, up] += 1
+            inside = index[:, up] < shape[up]
+            index[~inside] = 0
+            out[sel] = np.where(inside, lookup[np.ravel_multi_index(tuple(index.T), shape)], -1)
+        return out
+
     def _build_maps(self):
         mesh, h, dim = self.mesh, self.spacing, self.dim
         lower = np.asarray(self.lower, dtype=float)

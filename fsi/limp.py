@@ -9,7 +9,7 @@ free surface's: p = p_gas on it (:mod:`fluid.free_surface`) and it moves with th
 The surface is a height function z = eta(x, y) with one node over the centre of each vertical
 column of fluid cells (and one ring of columns beyond the grid), moved by the liquid's volume
 flux through each column's surface faces (:func:`fluid.free_surface.column_rates`), second order
-in time (Adams-Bashforth 2). Columns with no surface face (outside the tank) take the mean rate
+in time and without numerical damping (:func:`advance_heights`). Columns with no surface face (outside the tank) take the mean rate
 of their neighbours, so the surface stays smooth where it crosses the wall. A uniform shift
 each window returns the liquid volume to its start (the lagged volume error over the surface
 area; it is reported). The surface is closed by a box below it, outside the tank, so that the
@@ -96,10 +96,12 @@ class HeightSurface:
         return rate
 
 
-def advance_heights(heights: np.ndarray, rate: np.ndarray, rate_old: np.ndarray | None,
-                    dt: float, shift: float = 0.0) -> np.ndarray:
-    """eta^{n+1} = eta^n + dt (3/2 r^n - 1/2 r^{n-1}) + shift (m): Adams-Bashforth 2 (forward
-    Euler at the first step, ``rate_old`` None) and a uniform ``shift`` (m)."""
-    if rate_old is None:
-        return heights + dt * rate + shift
-    return heights + dt * (1.5 * rate - 0.5 * rate_old) + shift
+def advance_heights(heights: np.ndarray, rate: np.ndarray, dt: float,
+                    shift: float = 0.0) -> np.ndarray:
+    """eta^{n+1} = eta^n + dt r^n + shift (m): the surface moves by the face fluxes of the
+    liquid's last step, then the liquid steps under it (its velocity from the pressure at
+    eta^{n+1}). That pairing is Stormer-Verlet's (positions and velocities staggered by half
+    a step): second order in phase and free of numerical damping. Adams-Bashforth 2 in its
+    place damps the mode at zeta = omega dt / 4 (its amplification has |xi|^2 =
+    1 - (omega dt)^2 / 2 per step)."""
+    return heights + dt * rate + shift
