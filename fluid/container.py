@@ -45,6 +45,37 @@ class SphericalTank:
         """(r_max, z_min, z_max) of a grid that holds the tank and ``port_length`` m of stub."""
         return self.radius, -self.radius - port_length, self.radius
 
+    def volume_below(self, level: float) -> float:
+        """Volume (m^3) of the sphere below z = ``level`` (m, clipped to [-R, R]; the stub
+        not counted): pi (R^2 z - z^3 / 3 + 2 R^3 / 3)."""
+        z = float(np.clip(level, -self.radius, self.radius))
+        return float(np.pi * (self.radius**2 * z - z**3 / 3 + 2 * self.radius**3 / 3))
+
+    def level_holding(self, volume: float) -> float:
+        """The level z (m) below which the sphere holds ``volume`` (m^3), 0 < volume <
+        4/3 pi R^3 (bisection to machine precision: the volume rises monotonically)."""
+        full = 4.0 / 3.0 * np.pi * self.radius**3
+        if not 0 < volume < full:
+            raise ValueError(f"volume must be in (0, {full:.6g}) m^3, got {volume}")
+        low, high = -self.radius, self.radius
+        for _ in range(200):
+            mid = 0.5 * (low + high)
+            if self.volume_below(mid) < volume:
+                low = mid
+            else:
+                high = mid
+            if high - low <= 4 * np.finfo(float).eps * self.radius:
+                break
+        return 0.5 * (low + high)
+
+    def centroid_below(self, level: float) -> float:
+        """Height (m) of the centroid of the sphere's part below z = ``level`` (m):
+        int z (R^2 - z^2) dz / int (R^2 - z^2) dz over [-R, level]."""
+        z = float(np.clip(level, -self.radius, self.radius))
+        r2 = self.radius**2
+        moment = np.pi * (r2 * z**2 / 2 - z**4 / 4 - r2**2 / 4)
+        return float(moment / self.volume_below(z))
+
 
 @dataclass(frozen=True)
 class UprightCylinder:

@@ -66,6 +66,10 @@ def cmd_run(args) -> int:
     if result.attrs.get("failure"):
         print(f"fsi: error: the run stopped early: {result.attrs['failure']}", file=sys.stderr)
         return 1
+    if result.attrs.get("analysis_failure"):
+        print(f"fsi: error: the run's analysis failed: {result.attrs['analysis_failure']}",
+              file=sys.stderr)
+        return 1
     return 0
 
 

@@ -5,6 +5,9 @@ b(t) = g - a(t) in the tank frame (:func:`body_acceleration`).
 * ``none``: a = 0;
 * ``sine``: a = ``amplitude`` sin(2 pi ``frequency`` t) (zero at t = 0, so a static start is
   at rest);
+* ``impulse``: a = ``amplitude`` sin^2(pi t / ``duration``) for t < ``duration``, then 0 (a
+  smooth pulse, zero with its slope at both ends, then free motion; its velocity change is
+  ``amplitude`` ``duration`` / 2);
 * ``table``: a piecewise linear in time through the rows [t, ax, ay, az] of ``history``, held
   at the first row's value before it and at the last row's after it.
 """
@@ -37,6 +40,14 @@ def _sine(motion: dict) -> Acceleration:
     amplitude = np.asarray(motion["amplitude"], dtype=float)
     omega = 2.0 * np.pi * float(motion["frequency"])
     return lambda t: amplitude * np.sin(omega * t)
+
+
+@register_motion("impulse")
+def _impulse(motion: dict) -> Acceleration:
+    amplitude = np.asarray(motion["amplitude"], dtype=float)
+    duration = float(motion["duration"])
+    return lambda t: amplitude * np.sin(np.pi * t / duration) ** 2 if 0 <= t < duration \
+        else np.zeros(3)
 
 
 @register_motion("table")

@@ -14,10 +14,12 @@ Layout of ``result.h5`` (documented in README):
     /<group>/wall_seconds     (n_frames,) s
     ... and the other per-frame datasets a procedure records (each with a ``units`` attribute).
 
-Group ``frames`` is the main sequence (filling, the thesis frames picked by volume, or the
-coupled-fill frames in time); ``drain`` the draining sweep; ``history`` every recorded
-thesis-ramp frame; ``windows`` every coupling window of a coupled-fill run. The XDMF series
-is stamped with ``frames/time`` where there is one, else with the fill fraction.
+Group ``frames`` is the main sequence (filling, the thesis frames picked by volume, the
+coupled-fill frames in time, or a slosh run's surface heights in time); ``drain`` the
+draining sweep; ``history`` every recorded thesis-ramp frame; ``windows`` every window of a
+coupled-fill or slosh run; ``surface`` a slosh run's height-surface nodes. The XDMF series
+(membrane frames only) is stamped with ``frames/time`` where there is one, else with the fill
+fraction.
 
 Files are written into a temporary folder inside the output folder and moved into place only
 when complete, so an interrupted run leaves no half-written result.
@@ -42,6 +44,10 @@ UNITS = {
     "tank_fraction": "1", "fluid_speed_max": "m/s", "coupling_iterations": "1",
     "residual_pressure": "1", "residual_points": "1", "seconds_structure": "s",
     "seconds_fluid": "s", "port_flow": "m^3/s", "delivered_volume": "m^3",
+    "surface_height": "m", "node_plan": "m", "node_area": "m^2", "momentum": "kg m/s",
+    "angular_momentum": "kg m^2/s", "liquid_kinetic_energy": "J", "potential_energy": "J",
+    "dissipation_rate": "W", "dissipated_energy": "J", "tank_acceleration": "m/s^2",
+    "force": "N", "moment": "N m", "centre_of_mass": "m",
 }
 
 RESULT_FILE = "result.h5"
@@ -72,7 +78,8 @@ def write_result(out_dir: Path, scene, model, result) -> Path:
                 for key, arr in frames.items():
                     ds = grp.create_dataset(key, data=arr)
                     ds.attrs["units"] = UNITS.get(key, "")
-        _write_xdmf(tmp, model, result.groups["frames"])
+        if "node_position" in result.groups.get("frames", {}):
+            _write_xdmf(tmp, model, result.groups["frames"])
         for p in tmp.iterdir():
             os.replace(p, out_dir / p.name)
     finally:

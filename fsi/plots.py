@@ -5,7 +5,9 @@
 * ``surface_fill_XXX.png``: the 3-D membrane surface;
 * ``cross_sections.png``: all fills of a group in one panel (filling and draining side by side);
 * ``coupling.png`` (coupled-fill runs): coupling iterations, pressure level and liquid volume
-  per window against time.
+  per window against time;
+* ``slosh.png`` (slosh runs): the tank's acceleration, the liquid's centre of mass, the force
+  and moment on the tank and the energies against time.
 """
 from __future__ import annotations
 
@@ -38,6 +40,8 @@ def make_plots(run_dir) -> list[Path]:
     radius, n = float(res["attrs"]["radius"]), int(res["attrs"]["grid_size"])
     out = run_dir / "plots"
     out.mkdir(exist_ok=True)
+    if "node_position" not in res["frames"]:
+        return [_slosh_plot(res, out / "slosh.png")]
     written = []
     frames = res["frames"]
     for k, pos in enumerate(frames["node_position"]):
@@ -126,3 +130,33 @@ def _coupling_plot(res: dict, out: Path) -> Path:
     for ax in axes:
         ax.grid(alpha=0.3)
     return _save(fig, out / "coupling.png")
+
+
+def _slosh_plot(res: dict, path: Path) -> Path:
+    """Acceleration, centre of mass, force, moment and energies of a slosh run."""
+    w, a = res["windows"], res["attrs"]
+    t = w["time"]
+    fig, axes = plt.subplots(5, 1, figsize=(7, 11), sharex=True)
+    axes[0].plot(t, w["tank_acceleration"][:, 0])
+    axes[0].set_ylabel("tank a$_x$ (m/s$^2$)")
+    axes[1].plot(t, 1e3 * w["centre_of_mass"][:, 0])
+    axes[1].set_ylabel("liquid x$_c$ (mm)")
+    axes[2].plot(t, w["force"][:, 0])
+    axes[2].set_ylabel("F$_x$ on tank (N)")
+    axes[3].plot(t, w["moment"][:, 1])
+    axes[3].set_ylabel("M$_y$ on tank (N m)")
+    total = w["liquid_kinetic_energy"] + w["potential_energy"] + w["dissipated_energy"]
+    axes[4].plot(t, 1e3 * w["liquid_kinetic_energy"], label="kinetic")
+    axes[4].plot(t, 1e3 * w["potential_energy"], label="potential (surface)")
+    axes[4].plot(t, 1e3 * w["dissipated_energy"], label="dissipated")
+    axes[4].plot(t, 1e3 * total, "k", label="sum")
+    axes[4].set_ylabel("energy (mJ)")
+    axes[4].set_xlabel("time (s)")
+    axes[4].legend(fontsize=7)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    title = f"{a['surface']} surface, tank fraction {a['tank_fraction']:.3f} (V / (4/3 pi R$^3$))"
+    if "lambda1" in a:
+        title += f"\n{a['frequency_hz']:.3f} Hz, lambda1 {a['lambda1']:.4f}, zeta {a['zeta']:.4f}"
+    axes[0].set_title(title)
+    return _save(fig, path)

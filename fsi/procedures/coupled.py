@@ -62,8 +62,10 @@ MOTION = Table({
                 "tank acceleration a(t); the liquid feels liquid.body_acceleration - a(t) "
                 "(README, 'Tank motion')"),
     "amplitude": Key(list, [0.0, 0.0, 0.0], is_vec3, "three finite numbers (m/s^2)",
-                     "sine: a = amplitude sin(2 pi frequency t) (m/s^2)"),
+                     "sine: a = amplitude sin(2 pi frequency t); impulse: the peak (m/s^2)"),
     "frequency": Key(float, 1.0, lambda v: v >= 0, ">= 0 Hz", "sine: frequency (Hz)"),
+    "duration": Key(float, 0.1, positive, "> 0 s",
+                    "impulse: a = amplitude sin^2(pi t / duration) while t < duration (s)"),
     "history": Key(list, [], _history, "rows [t, ax, ay, az], times increasing (s, m/s^2)",
                    "table: a(t) piecewise linear through the rows, held outside them"),
 }, _check_motion)

@@ -1,0 +1,267 @@
+"""``slosh``: lateral slosh in the spherical tank from rest at a tank fraction, port shut.
+
+* Start: the liquid at rest at ``slosh.fill`` = V / (4/3 pi R^3) (the tank fraction), under
+  ``liquid.body_acceleration``.
+* Excitation: ``[motion]`` (:mod:`fsi.motion`): ``impulse`` (a smooth lateral pulse, then
+  free decay), ``sine`` (forced) or ``table``; the contents feel b(t) = g - a(t).
+* Surface (``slosh.surface``, a registry): ``limp``, the diaphragm slack, massless and
+  without bending, i.e. the liquid's free surface (:mod:`fsi.limp`, :mod:`fluid.free_surface`).
+* Liquid: incompressible flow on the 3-D immersed-boundary grid (``[fluid]``), one liquid
+  step per window.
+* Per window (group ``windows``): time, the tank's acceleration, the liquid's momentum and
+  angular momentum, kinetic energy, viscous dissipation rate, the surface's gravitational
+  potential energy, liquid volume; from them (:mod:`fsi.slosh_response`) the force and the
+  moment about the tank centre that the contents put on the tank and their centre of mass.
+* Analysis (impulse or table excitation): the first mode's frequency, damping ratio and
+  lambda1 = omega^2 R / g from the centre of mass's free decay after ``slosh.analysis_start``,
+  and the NASA SP-106 spring-mass equivalent from the force and moment.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from fluid.container import SphericalTank
+from fluid.free_surface import column_rates, surface_of
+from fluid.measures import angular_momentum, dissipation_rate, kinetic_energy, momentum
+from fluid.model import FluidModel
+from fluid.solver import FluidSolver
+from fluid.tank import tank_grid, tank_spacing
+
+from ..limp import HeightSurface, advance_heights
+from ..lifecycle import Progress, Run, RunResult
+from ..motion import body_acceleration, tank_acceleration
+from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
+from ..slosh_response import contents_response, first_mode
+from .coupled import FLUID, MOTION
+
+log = logging.getLogger(__name__)
+
+#: slosh.surface -> the function that runs the windows of that surface model
+SURFACES: dict[str, Callable] = {}
+
+
+def register_surface(name: str):
+    """Decorator: register a surface model's window loop under ``name``."""
+    def deco(func):
+        SURFACES[name] = func
+        return func
+    return deco
+
+
+MIN_DEPTH_CELLS = 2.0
+"""Liquid and gas each at least this many fluid cells deep at the tank's axis."""
+
+
+@dataclass
+class Start:
+    """The liquid at rest: tank, level z0 (m), mass (kg), centre of mass (3,) m."""
+
+    tank: SphericalTank
+    level: float
+    mass: float
+    centre: np.ndarray
+
+
+def _start(setup) -> Start:
+    radius = setup.model.radius
+    tank = SphericalTank(radius)
+    volume = setup.scene["slosh"]["fill"] * 4.0 / 3.0 * np.pi * radius**3
+    level = tank.level_holding(volume)
+    return Start(tank, level, setup.liquid.density * volume,
+                 np.array([0.0, 0.0, tank.centroid_below(level)]))
+
+
+def check_depth(setup) -> None:
+    """Liquid and gas each span :data:`MIN_DEPTH_CELLS` cells of the fluid grid, and gravity
+    points down."""
+    scene = setup.scene
+    radius = scene["tank"]["radius"]
+    h = tank_spacing(radius, scene["fluid"]["cells"], axisymmetric=False)
+    fill = scene["slosh"]["fill"]
+    level = SphericalTank(radius).level_holding(fill * 4.0 / 3.0 * np.pi * radius**3)
+    depth = min(radius + level, radius - level)
+    if depth < MIN_DEPTH_CELLS * h:
+        low = SphericalTank(radius).volume_below(-radius + MIN_DEPTH_CELLS * h)
+        low /= 4.0 / 3.0 * np.pi * radius**3
+        raise SceneError(f"scene key 'slosh.fill' = {fill!r}: the liquid or the gas is "
+                         f"{depth / h:.2f} fluid cells deep (cell {h:.4g} m at fluid.cells = "
+                         f"{scene['fluid']['cells']}); allowed {low:.3f} < fill < "
+                         f"{1 - low:.3f}, or more fluid cells")
+    gravity = np.asarray(scene["liquid"]["body_acceleration"], dtype=float)
+    if not (gravity[2] < 0 and np.allclose(gravity[:2], 0.0)):
+        raise SceneError(f"scene key 'liquid.body_acceleration' = {gravity.tolist()!r}: a "
+                         f"slosh run needs gravity along -z (0, 0, -g), g > 0")
+
+
+@register_surface("limp")
+def _limp(setup, start: Start, body, run: Run, window: float, n_windows: int):
+    """The limp diaphragm's windows: the height surface moved by the last step's column
+    fluxes (volume held by a uniform shift), then one free-surface liquid step under it.
+    Returns the per-window samples of what the record needs."""
+    scene = setup.scene
+    radius = setup.model.radius
+    grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
+    model = FluidModel(grid=grid, container=start.tank, density=setup.liquid.density,
+                       viscosity=scene["fluid"]["viscosity"], body_acceleration=body,
+                       interface_condition="free")
+    surface = HeightSurface(grid, bottom=-2.0 * radius)
+    heights = surface.flat(start.level)
+    fluid = FluidSolver(model, surface.interface(heights))
+    volume = fluid.liquid_volume
+    plan_area = np.pi * (radius**2 - start.level**2)
+    node_area = _node_areas(surface, grid.spacing, radius, start.level)
+    gravity = -float(setup.liquid.body_acceleration[2])
+    samples = []
+
+    def sample(t, seconds):
+        state = fluid.state
+        free = surface_of(model, state.geometry).faces
+        rise = heights.ravel() - start.level
+        samples.append(dict(
+            time=t, momentum=momentum(model, state),
+            angular_momentum=angular_momentum(model, state),
+            liquid_kinetic_energy=kinetic_energy(model, state),
+            potential_energy=0.5 * setup.liquid.density * gravity * float(
+                np.sum(node_area * rise**2)),
+            dissipation_rate=dissipation_rate(model, state, free),
+            fluid_liquid_volume=fluid.liquid_volume, wall_seconds=seconds))
+
+    sample(0.0, run.elapsed())
+    run.record("frames", dict(time=0.0, surface_height=heights.copy()))
+    for k in range(n_windows):
+        t = (k + 1) * window
+        rate = surface.node_rates(*column_rates(model, fluid.state))
+        shift = (volume - fluid.liquid_volume) / plan_area
+        heights = advance_heights(heights, rate, window, shift)
+        velocity = fluid.velocity_at(surface.points(heights))
+        velocity[:, 2] = rate.ravel()
+        fluid.advance(window, surface.interface(heights, velocity))
+        if not np.all(np.isfinite(heights)):
+            run.stop(f"the surface is not finite at t = {t:.4f} s")
+            break
+        sample(t, run.elapsed())
+        if run.frame_due(k + 1):
+            run.record("frames", dict(time=t, surface_height=heights.copy()))
+        run.progress(k + 1, f"t = {t:.3f} s, surface x-moment "
+                            f"{float(np.sum(node_area * heights.ravel() * surface.plan[:, 0])):.3e}"
+                            " m^4")
+    return samples, dict(node_plan=surface.plan, node_area=node_area), volume
+
+
+def _node_areas(surface: HeightSurface, spacing: float, radius: float, level: float,
+                subdivisions: int = 8) -> np.ndarray:
+    """(n_nodes,) m^2: the part of each node's column (a cell's cross-section around it)
+    inside the tank's circle at the level (midpoint rule on a subdivided square)."""
+    offsets = (np.arange(subdivisions) + 0.5) / subdivisions - 0.5
+    dx, dy = np.meshgrid(offsets * spacing, offsets * spacing, indexing="ij")
+    x = surface.plan[:, 0, None] + dx.ravel()
+    y = surface.plan[:, 1, None] + dy.ravel()
+    inside = x**2 + y**2 < radius**2 - level**2
+    return inside.mean(axis=1) * spacing**2
+
+
+def _check_slosh(table: dict) -> None:
+    if table["analysis_start"] >= table["end_time"]:
+        raise SceneError(f"scene key 'slosh.analysis_start' = {table['analysis_start']!r} s: "
+                         f"allowed below slosh.end_time = {table['end_time']!r} s")
+
+
+SLOSH = Table({
+    "fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
+                "tank fraction V / (4/3 pi R^3) of the liquid at rest"),
+    "surface": Key(str, "limp", *one_of(SURFACES),
+                   "the diaphragm model: limp (slack, massless, no bending: the free surface)"),
+    "window": Key(float, 2e-3, lambda v: 0 < v <= 0.05, "0 < value <= 0.05 s",
+                  "time window (s): one liquid step"),
+    "end_time": Key(float, 5.0, positive, "> 0 s", "simulated time (s)"),
+    "frame_interval": Key(int, 25, lambda v: v >= 1, ">= 1",
+                          "windows between recorded surface frames"),
+    "analysis_start": Key(float, 0.15, lambda v: v >= 0, ">= 0 s",
+                          "the free decay's fit starts here (s; after the impulse)"),
+}, _check_slosh)
+"""[slosh]: start, surface model, windows and analysis of a slosh run."""
+
+
+
+def slosh(setup, progress: Progress) -> RunResult:
+    """Slosh from rest at the tank fraction ``slosh.fill``, excited by ``[motion]``."""
+    scene = setup.scene
+    table = scene["slosh"]
+    window = table["window"]
+    n_windows = max(1, int(round(table["end_time"] / window)))
+    run = Run(progress, n_windows, table["frame_interval"])
+    start = _start(setup)
+    body = body_acceleration(setup.liquid.body_acceleration, scene["motion"])
+    acceleration = tank_acceleration(scene["motion"])
+    samples, surface_data, volume = SURFACES[table["surface"]](setup, start, body, run, window,
+                                                               n_windows)
+    windows = {k: np.asarray([s[k] for s in samples]) for k in samples[0]}
+    time = windows["time"]
+    windows["tank_acceleration"] = np.array([acceleration(t) for t in time])
+    body_t = np.array([body(t) for t in time])
+    mass = setup.liquid.density * volume
+    windows.update(contents_response(time, body_t, windows["momentum"],
+                                     windows["angular_momentum"], mass, start.centre))
+    windows["dissipated_energy"] = np.concatenate(
+        [[0.0], np.cumsum(0.5 * np.diff(time) * (windows["dissipation_rate"][1:]
+                                                 + windows["dissipation_rate"][:-1]))])
+    radius = setup.model.radius
+    tank_volume = 4.0 / 3.0 * np.pi * radius**3
+    windows["tank_fraction"] = windows["fluid_liquid_volume"] / tank_volume
+    gravity = -float(setup.liquid.body_acceleration[2])
+    attrs = dict(
+        surface=table["surface"], target_tank_fraction=table["fill"],
+        tank_fraction=volume / tank_volume, level=start.level, liquid_mass=mass,
+        centre_height=float(start.centre[2]), window=window, windows_planned=n_windows,
+        windows_done=len(time) - 1, fluid_cells=scene["fluid"]["cells"],
+        viscosity=scene["fluid"]["viscosity"], excitation=scene["motion"]["kind"],
+        peak_force_x=float(np.max(np.abs(windows["force"][:, 0]))),
+        peak_moment_y=float(np.max(np.abs(windows["moment"][:, 1]))),
+        wall_seconds=run.elapsed())
+    if scene["motion"]["kind"] in ("impulse", "table") and not run.failure:
+        attrs.update(first_mode(time, windows["tank_acceleration"][:, 0],
+                                windows["centre_of_mass"][:, 0], windows["force"][:, 0],
+                                windows["moment"][:, 1], mass, float(start.centre[2]), gravity,
+                                radius, table["analysis_start"]))
+        if attrs.get("omega"):
+            attrs["seconds_per_period"] = attrs["wall_seconds"] / (
+                time[-1] * attrs["omega"] / (2 * np.pi))
+    return run.result({"windows": windows, "surface": surface_data}, **attrs)
+
+
+def report(result) -> None:
+    """The summary ``fsi run`` prints after a slosh run."""
+    a = result.attrs
+    print(f"slosh ({a['surface']} surface): tank fraction {a['tank_fraction']:.4f} "
+          f"(V / (4/3 pi R^3), target {a['target_tank_fraction']:.4f}), {a['windows_done']} "
+          f"windows of {a['window']:g} s on {a['fluid_cells']}^3 cells, "
+          f"{a['wall_seconds']:.1f} s")
+    print(f"  peak force on the tank F_x {a['peak_force_x']:.4g} N, peak moment M_y "
+          f"{a['peak_moment_y']:.4g} N m")
+    if a.get("analysis_failure"):
+        print(f"  first mode: not analysed ({a['analysis_failure']})")
+    elif "lambda1" in a:
+        print(f"  first mode: {a['frequency_hz']:.4f} +- {a['frequency_hz_std']:.1e} Hz, "
+              f"lambda1 = omega^2 R / g = {a['lambda1']:.4f}, zeta = {a['zeta']:.5f} +- "
+              f"{a['zeta_std']:.1e}")
+        print(f"  spring-mass equivalent: slosh mass {a['slosh_mass']:.3f} kg "
+              f"({100 * a['slosh_mass_fraction']:.1f} % of {a['total_mass']:.3f} kg) at "
+              f"z = {a['slosh_mass_height']:.4f} m, fixed mass {a['fixed_mass']:.3f} kg at "
+              f"z = {a['fixed_mass_height']:.4f} m, pendulum {a['pendulum_length']:.4f} m "
+              f"hinged at z = {a['hinge_height']:.4f} m; {a['seconds_per_period']:.1f} s "
+              "per period")
+
+
+PROCEDURE = register_procedure(Procedure(
+    name="slosh",
+    summary="lateral slosh from rest at a tank fraction, port shut: frequency, damping, "
+            "spring-mass equivalent, force and moment on the tank",
+    run=slosh,
+    tables={"slosh": SLOSH, "fluid": FLUID, "motion": MOTION},
+    check_setup=check_depth,
+    report=report,
+))
