@@ -66,12 +66,17 @@ class Start:
     centre: np.ndarray
 
 
+def _level(radius: float, fill: float) -> float:
+    """The level z0 (m) at which the sphere of ``radius`` holds the tank fraction ``fill``."""
+    return SphericalTank(radius).level_holding(fill * 4.0 / 3.0 * np.pi * radius**3)
+
+
 def _start(setup) -> Start:
     radius = setup.model.radius
     tank = SphericalTank(radius)
-    volume = setup.scene["slosh"]["fill"] * 4.0 / 3.0 * np.pi * radius**3
-    level = tank.level_holding(volume)
-    return Start(tank, level, setup.liquid.density * volume,
+    fill = setup.scene["slosh"]["fill"]
+    level = _level(radius, fill)
+    return Start(tank, level, setup.liquid.density * fill * 4.0 / 3.0 * np.pi * radius**3,
                  np.array([0.0, 0.0, tank.centroid_below(level)]))
 
 
@@ -82,7 +87,7 @@ def check_depth(setup) -> None:
     radius = scene["tank"]["radius"]
     h = tank_spacing(radius, scene["fluid"]["cells"], axisymmetric=False)
     fill = scene["slosh"]["fill"]
-    level = SphericalTank(radius).level_holding(fill * 4.0 / 3.0 * np.pi * radius**3)
+    level = _level(radius, fill)
     depth = min(radius + level, radius - level)
     if depth < MIN_DEPTH_CELLS * h:
         low = SphericalTank(radius).volume_below(-radius + MIN_DEPTH_CELLS * h)
@@ -119,7 +124,7 @@ def _limp(setup, start: Start, body, run: Run, window: float, n_windows: int):
 
     def sample(t, seconds):
         state = fluid.state
-        free = surface_of(model, state.geometry).faces
+        free = surface_of(model, state.geometry).faces if model.viscosity > 0 else None
         rise = heights.ravel() - start.level
         samples.append(dict(
             time=t, momentum=momentum(model, state),
