@@ -58,26 +58,28 @@ MIN_DEPTH_CELLS = 2.0
 
 @dataclass
 class Start:
-    """The liquid at rest: tank, level z0 (m), mass (kg), centre of mass (3,) m."""
+    """The liquid at rest: tank, level z0 (m), centre of mass (3,) m."""
 
     tank: SphericalTank
     level: float
-    mass: float
     centre: np.ndarray
+
+
+def _tank_volume(radius: float) -> float:
+    """4/3 pi R^3 (m^3), the volume a tank fraction is a fraction of."""
+    return 4.0 / 3.0 * np.pi * radius**3
 
 
 def _level(radius: float, fill: float) -> float:
     """The level z0 (m) at which the sphere of ``radius`` holds the tank fraction ``fill``."""
-    return SphericalTank(radius).level_holding(fill * 4.0 / 3.0 * np.pi * radius**3)
+    return SphericalTank(radius).level_holding(fill * _tank_volume(radius))
 
 
 def _start(setup) -> Start:
     radius = setup.model.radius
     tank = SphericalTank(radius)
-    fill = setup.scene["slosh"]["fill"]
-    level = _level(radius, fill)
-    return Start(tank, level, setup.liquid.density * fill * 4.0 / 3.0 * np.pi * radius**3,
-                 np.array([0.0, 0.0, tank.centroid_below(level)]))
+    level = _level(radius, setup.scene["slosh"]["fill"])
+    return Start(tank, level, np.array([0.0, 0.0, tank.centroid_below(level)]))
 
 
 def check_depth(setup) -> None:
@@ -90,8 +92,8 @@ def check_depth(setup) -> None:
     level = _level(radius, fill)
     depth = min(radius + level, radius - level)
     if depth < MIN_DEPTH_CELLS * h:
-        low = SphericalTank(radius).volume_below(-radius + MIN_DEPTH_CELLS * h)
-        low /= 4.0 / 3.0 * np.pi * radius**3
+        low = SphericalTank(radius).volume_below(-radius + MIN_DEPTH_CELLS * h) / \
+            _tank_volume(radius)
         raise SceneError(f"scene key 'slosh.fill' = {fill!r}: the liquid or the gas is "
                          f"{depth / h:.2f} fluid cells deep (cell {h:.4g} m at fluid.cells = "
                          f"{scene['fluid']['cells']}); allowed {low:.3f} < fill < "
@@ -215,7 +217,7 @@ def slosh(setup, progress: Progress) -> RunResult:
         [[0.0], np.cumsum(0.5 * np.diff(time) * (windows["dissipation_rate"][1:]
                                                  + windows["dissipation_rate"][:-1]))])
     radius = setup.model.radius
-    tank_volume = 4.0 / 3.0 * np.pi * radius**3
+    tank_volume = _tank_volume(radius)
     windows["tank_fraction"] = windows["fluid_liquid_volume"] / tank_volume
     gravity = -float(setup.liquid.body_acceleration[2])
     attrs = dict(
