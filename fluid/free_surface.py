@@ -37,7 +37,8 @@ faces, same cut cells at the tank wall) with three differences at the surface:
   faces then evolve as a staggered grid's, u_f^{n+1} = u_f^n - dt/rho grad_f p^{n+1}, which
   with the surface moved by the face fluxes of step n conserves the discrete energy
   (Stormer-Verlet pairing); Rhie-Chow's re-interpolation from the cells each step damps a
-  sloshing mode at zeta ~ 0.01.
+  sloshing mode at zeta ~ 0.01. A face the surface opens or closes as it passes a centre
+  plane hands its flux to the face below it (:func:`_carry_over`).
 
 The incremental pressure keeps the surface condition in both parts: the old gradient uses
 p_s(t^n) at the new surface, the correction dp_s = p_s(t^{n+1}) - p_s(t^n) there.
@@ -208,6 +209,7 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     old_cells = np.where(fluid[:, None], state.cell_velocity, wall)
     u_face[memory] += (state.face_velocity
                        - interpolate_to_faces(model, old_cells, fluid))[memory]
+    _carry_over(model, old.view.face_fraction, view.face_fraction, state.face_velocity, u_face)
     p_bc_new = port_values(model, ops, t1)
     dp_s = surface.reduced_pressure(model, t1) - p_s_old
     inputs, mismatch = _pressure_inputs(model, ops, surface, u_face, p_bc_new - p_bc_old, dp_s,
@@ -222,6 +224,7 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     u_face_new = u_face - dt / rho * grad_f
     u_face_new[ops.flow_faces] = u_flow[ops.flow_faces]
     u_face_new[beta == 0] = 0.0
+    _lend_to_lumped(model, beta, geometry.face_fraction, u_face_new)
     u_cell = u_star - dt / rho * cell_gradient(model, grad_f, weights)
     u_cell[~fluid] = wall[~fluid]
     residual = net_outflow(model, beta * g.face_area * u_face_new)
@@ -234,6 +237,63 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     toc_pressure = _time.perf_counter() - tic
     return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure,
                            momentum_iterations, info.iterations, info.residual)
+
+
+def _carry_over(model: FluidModel, beta_old: np.ndarray, beta_new: np.ndarray,
+                u_old: np.ndarray, u_face: np.ndarray) -> None:
+    """Hand the flux of the faces the surface opens or closes on, in place on the predicted
+    face velocities ``u_face`` (n_faces,) m/s.
+
+    When the surface rises past a centre plane, a face of the new top layer opens: a
+    horizontal one whose liquid the face below it carried (lumped, see the module doc), or
+    the vertical face that is now the column's surface face. It takes the velocity of the
+    face below it, so the flux through the column is unchanged. When the surface falls past
+    one, a horizontal face closes and the face below takes over its liquid: the two
+    velocities merge, weighted by their fractions beta (their momentum is unchanged).
+    Without this the faces' flux is dropped or re-created from the cells and every layer
+    change costs the sloshing liquid energy: the half-full sphere, whose level lies on a
+    centre plane so every column changes layer twice a period, decays at zeta = 0.012 /
+    0.0147 / 0.0108 on 12^3 / 16^3 / 24^3 cells, and at 0.0067 / 0.0088 / 0.0060 with it.
+    A vertical surface face that closes is not merged: the liquid it carried is not the
+    face below's (merged, zeta fell to -0.0018 on 12^3, but the momentum jumped at each
+    layer change and the moment about the centre, which vanishes for a sphere, showed
+    spikes of 0.15 F R)."""
+    g = model.grid
+    below = g.face_below
+    sign = g.face_sign
+    kept = (beta_old > 0) & (beta_new > 0)
+    horizontal = g.face_axis != g.vertical_axis
+    opened = np.flatnonzero((beta_new > 0) & (beta_old == 0))
+    source = below[opened]
+    take = source >= 0
+    take[take] = kept[source[take]]
+    f, s = opened[take], source[take]
+    u_face[f] = u_face[s] * sign[s] * sign[f]
+    closed = np.flatnonzero(horizontal & (beta_new == 0) & (beta_old > 0))
+    target = below[closed]
+    take = target >= 0
+    take[take] = kept[target[take]]
+    f, t = closed[take], target[take]
+    share = beta_old[f] / (beta_old[f] + beta_old[t])
+    jump = u_old[f] * sign[f] - u_old[t] * sign[t]
+    u_face[t] += sign[t] * share * jump
+
+
+def _lend_to_lumped(model: FluidModel, beta: np.ndarray, beta_liquid: np.ndarray,
+                    u_face: np.ndarray) -> None:
+    """Give each face whose liquid the face below it carries (a horizontal face that touches
+    no liquid-centre cell, lumped into the top layer's face, see the module doc) that face's
+    velocity, in place on ``u_face`` (n_faces,) m/s: the liquid there moves with it, and the
+    integral measures, which weigh each face by its liquid fraction, see the momentum and
+    energy the step carries."""
+    g = model.grid
+    above = g.face_above
+    carrier = np.flatnonzero((beta > 0) & (g.face_axis != g.vertical_axis) & (above >= 0))
+    lent = above[carrier]
+    take = (beta[lent] == 0) & (beta_liquid[lent] > 0)
+    f, a = carrier[take], lent[take]
+    sign = g.face_sign
+    u_face[a] = u_face[f] * sign[f] * sign[a]
 
 
 def _pressure_inputs(model, ops, surface: Surface, u_face, dp_ports, dp_surface, dt):

@@ -102,6 +102,16 @@ class TankGrid:
             out[sel] = np.where(inside, lookup[np.ravel_multi_index(tuple(index.T), shape)], -1)
         return out
 
+    @cached_property
+    def face_below(self) -> np.ndarray:
+        """(n_faces,) the face of the same axis one cell down (-z) from each face; -1 where
+        there is none (the inverse of :attr:`face_above`)."""
+        above = self.face_above
+        out = np.full(self.n_faces, -1, dtype=np.int64)
+        has = above >= 0
+        out[above[has]] = np.flatnonzero(has)
+        return out
+
     def _build_maps(self):
         mesh, h, dim = self.mesh, self.spacing, self.dim
         lower = np.asarray(self.lower, dtype=float)
