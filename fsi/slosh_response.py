@@ -63,6 +63,8 @@ def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre_x: np.ndarra
     out.update(lambda1=float(fit.omega**2 * radius / gravity),
                lambda1_std=float(2 * fit.omega * fit.omega_std * radius / gravity),
                frequency_hz_std=float(fit.frequency_hz_std), zeta_std=float(fit.zeta_std),
+               centre_of_mass_amplitude=abs(float(fit.amplitude)),
+               centre_of_mass_amplitude_std=float(fit.amplitude_std),
                fit_samples=int(fit.samples), fit_rms_residual=float(fit.rms_residual),
                analysis_failure="")
     return out
