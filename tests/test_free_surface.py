@@ -70,7 +70,17 @@ def _cylinder_decay(cells: int, window: float, end_time: float, level: float = 0
 
     model = _free_model(grid, cylinder, body)
     surface = HeightSurface(grid, bottom=-4 * depth)
-    heights = surface.flat(level * h)
+    times, moment, solver, volume = _free_decay(model, surface, level * h, radius, window,
+                                                end_time)
+    return times, moment, solver, volume, radius, depth
+
+
+def _free_decay(model, surface, level, radius, window, end_time):
+    """The height ``surface`` from rest at ``level`` (m) over ``end_time`` (s) of
+    ``window`` steps, its volume held by a uniform shift over the plan area of radius
+    ``radius`` (m): (time, first moment of the surface inside that radius, solver, the start's
+    liquid volume)."""
+    heights = surface.flat(level)
     solver = FluidSolver(model, surface.interface(heights))
     volume = solver.liquid_volume
     plan = surface.points(heights)[:, :2]
@@ -85,7 +95,7 @@ def _cylinder_decay(cells: int, window: float, end_time: float, level: float = 0
         solver.advance(window, surface.interface(heights, velocity))
         times.append((k + 1) * window)
         moment.append(float((heights.ravel()[inside] * plan[inside, 0]).sum()))
-    return np.array(times), np.array(moment), solver, volume, radius, depth
+    return np.array(times), np.array(moment), solver, volume
 
 
 XI_11 = 1.8412
@@ -140,22 +150,8 @@ def _sphere_decay(cells, window, end_time, pulse=0.5):
 
     model = _free_model(grid, SphericalTank(TANK_RADIUS), body)
     surface = HeightSurface(grid, bottom=-3 * TANK_RADIUS)
-    heights = surface.flat(0.0)
-    solver = FluidSolver(model, surface.interface(heights))
-    volume = solver.liquid_volume
-    plan = surface.points(heights)[:, :2]
-    inside = np.hypot(plan[:, 0], plan[:, 1]) < TANK_RADIUS
-    times, moment = [], []
-    for k in range(int(round(end_time / window))):
-        rate = surface.node_rates(*column_rates(model, solver.state))
-        shift = (volume - solver.liquid_volume) / (np.pi * TANK_RADIUS**2)
-        heights = advance_heights(heights, rate, window, shift)
-        velocity = solver.velocity_at(surface.points(heights))
-        velocity[:, 2] = rate.ravel()
-        solver.advance(window, surface.interface(heights, velocity))
-        times.append((k + 1) * window)
-        moment.append(float((heights.ravel()[inside] * plan[inside, 0]).sum()))
-    return np.array(times), np.array(moment)
+    times, moment, _, _ = _free_decay(model, surface, 0.0, TANK_RADIUS, window, end_time)
+    return times, moment
 
 
 def test_half_full_sphere_keeps_its_energy_through_layer_changes():
