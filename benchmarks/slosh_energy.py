@@ -69,8 +69,7 @@ def energy_figures(inviscid, viscous) -> dict:
     period = 2 * np.pi / a["omega"]
     w = inviscid.groups["windows"]
     time = w["time"]
-    start = a.get("analysis_start", 0.15)
-    start = max(0.15, float(start))
+    start = a["analysis_start"]
     count = min(PERIODS + 1, int((time[-1] - start) / period))
     if count < 2:
         return dict(energy_failure="the run is shorter than two periods after the pulse")

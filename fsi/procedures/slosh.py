@@ -226,6 +226,7 @@ def slosh(setup, progress: Progress) -> RunResult:
         centre_height=float(start.centre[2]), window=window, windows_planned=n_windows,
         windows_done=len(time) - 1, fluid_cells=scene["fluid"]["cells"],
         viscosity=scene["fluid"]["viscosity"], excitation=scene["motion"]["kind"],
+        analysis_start=table["analysis_start"],
         peak_force_x=float(np.max(np.abs(windows["force"][:, 0]))),
         peak_moment_y=float(np.max(np.abs(windows["moment"][:, 1]))),
         wall_seconds=run.elapsed())
