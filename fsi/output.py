@@ -47,7 +47,8 @@ UNITS = {
     "surface_height": "m", "node_plan": "m", "node_area": "m^2", "momentum": "kg m/s",
     "angular_momentum": "kg m^2/s", "liquid_kinetic_energy": "J", "potential_energy": "J",
     "dissipation_rate": "W", "dissipated_energy": "J", "tank_acceleration": "m/s^2",
-    "force": "N", "moment": "N m", "centre_of_mass": "m",
+    "force": "N", "moment": "N m", "centre_of_mass": "m", "membrane_kinetic_energy": "J",
+    "membrane_elastic_energy": "J", "membrane_liquid_volume": "m^3", "node_mass": "kg",
 }
 
 RESULT_FILE = "result.h5"

@@ -40,7 +40,7 @@ def make_plots(run_dir) -> list[Path]:
     radius, n = float(res["attrs"]["radius"]), int(res["attrs"]["grid_size"])
     out = run_dir / "plots"
     out.mkdir(exist_ok=True)
-    if "node_position" not in res["frames"]:
+    if res["attrs"].get("procedure") == "slosh":
         return [_slosh_plot(res, out / "slosh.png")]
     written = []
     frames = res["frames"]
@@ -140,15 +140,21 @@ def _slosh_plot(res: dict, path: Path) -> Path:
     axes[0].plot(t, w["tank_acceleration"][:, 0])
     axes[0].set_ylabel("tank a$_x$ (m/s$^2$)")
     axes[1].plot(t, 1e3 * w["centre_of_mass"][:, 0])
-    axes[1].set_ylabel("liquid x$_c$ (mm)")
+    axes[1].set_ylabel("contents x$_c$ (mm)")
     axes[2].plot(t, w["force"][:, 0])
     axes[2].set_ylabel("F$_x$ on tank (N)")
     axes[3].plot(t, w["moment"][:, 1])
     axes[3].set_ylabel("M$_y$ on tank (N m)")
-    total = w["liquid_kinetic_energy"] + w["potential_energy"] + w["dissipated_energy"]
-    axes[4].plot(t, 1e3 * w["liquid_kinetic_energy"], label="kinetic")
-    axes[4].plot(t, 1e3 * w["potential_energy"], label="potential (surface)")
-    axes[4].plot(t, 1e3 * w["dissipated_energy"], label="dissipated")
+    parts = {"liquid kinetic": w["liquid_kinetic_energy"],
+             "gravitational potential": w["potential_energy"],
+             "dissipated (liquid)": w["dissipated_energy"]}
+    if "membrane_kinetic_energy" in w:
+        parts["membrane kinetic"] = w["membrane_kinetic_energy"]
+        parts["membrane elastic (change)"] = w["membrane_elastic_energy"] - \
+            w["membrane_elastic_energy"][0]
+    total = sum(parts.values())
+    for label, value in parts.items():
+        axes[4].plot(t, 1e3 * value, label=label)
     axes[4].plot(t, 1e3 * total, "k", label="sum")
     axes[4].set_ylabel("energy (mJ)")
     axes[4].set_xlabel("time (s)")

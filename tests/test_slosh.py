@@ -14,6 +14,7 @@ from fluid.solver import FluidSolver
 from fsi.build import build
 from fsi.motion import tank_acceleration
 from fsi.output import read_result
+from fsi.procedures import PROCEDURES
 from fsi.scene import SceneError, load_scene, parse_scene
 from fsi.slosh_response import contents_response
 
@@ -139,6 +140,66 @@ def test_short_slosh_run(tmp_path):
     assert "slosh.png" in {p.name for p in (out / "plots").iterdir()}
 
 
+DIAPHRAGM = """
+[scene]
+procedure = "slosh"
+[membrane]
+grid_size = 10
+youngs_modulus = {youngs}
+[slosh]
+fill = 0.5
+surface = "diaphragm"
+end_time = {end}
+analysis_start = {start}
+[motion]
+kind = "{kind}"
+amplitude = [0.5, 0.0, 0.0]
+duration = 0.1
+[fluid]
+cells = 12
+[coupling]
+max_iterations = 30
+on_max_iterations = "accept"
+"""
+
+
+def _diaphragm(youngs=8.6e6, kind="impulse", end=1.0, start=0.15):
+    scene = parse_scene(DIAPHRAGM.format(youngs=youngs, kind=kind, end=end, start=start))
+    return PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
+
+
+def test_diaphragm_at_rest_stays_at_rest():
+    """The Table 4.1 diaphragm (N = 10, 12^3 cells) at tank fraction 0.5 and no excitation:
+    the static start, solved under the hydrostatic model, is at rest under the coupled
+    liquid: after the first windows the vertical force is the contents' weight, the liquid
+    barely moves (measured K < 1e-6 J, against about 1e-3 J after the 0.5 m/s^2 impulse)
+    and the membrane holds the liquid volume (the port is shut)."""
+    result = _diaphragm(kind="none", end=0.1, start=0.0)
+    w, a = result.groups["windows"], result.attrs
+    assert not a["failure"]
+    weight = a["contents_mass"] * 9.81
+    assert np.allclose(w["force"][5:, 2], -weight, rtol=1e-3)
+    assert w["liquid_kinetic_energy"].max() < 1e-5
+    # held by XPBD's linearised volume projection: the first window lands within 1e-5 of
+    # the start's volume (measured 5.7e-6), the windows after it stay where it landed
+    volume = w["membrane_liquid_volume"]
+    assert volume[1] == pytest.approx(volume[0], rel=1e-5)
+    assert np.allclose(volume[1:], volume[1], rtol=1e-8)
+    assert a["tank_fraction"] == pytest.approx(0.5, rel=1e-4)
+
+
+def test_diaphragm_stiffens_the_first_mode():
+    """The clamped, prestressed diaphragm raises the first mode far above the free
+    surface's lambda1 = 1.5602 (Budiansky 1960), and a softer membrane (E / 10) lowers it
+    again: the shift is the membrane's stiffness (README, "Slosh with the diaphragm")."""
+    stiff = _diaphragm().attrs
+    soft = _diaphragm(youngs=8.6e5).attrs
+    assert not stiff.get("analysis_failure") and not soft.get("analysis_failure")
+    assert stiff["lambda1"] > 3 * 1.5602
+    assert 1.5602 < soft["lambda1"] < 0.8 * stiff["lambda1"]
+    assert stiff["structure_model"] == "xpbd"
+
+
 def test_bundled_slosh_scenes_validate():
-    for name in ("slosh-half", "slosh-forced"):
+    for name in ("slosh-half", "slosh-forced", "slosh-diaphragm"):
         build(load_scene(name))

@@ -136,13 +136,11 @@ def coupling_settings(c: dict) -> CouplingSettings:
         extrapolation_order=c["extrapolation_order"])
 
 
-def window_substep(setup) -> float:
-    """XPBD substep (s): the window cut into equal substeps no longer than
-    ``substep_fraction`` of the explicit limit of the largest hydrostatic load."""
-    dyn = setup.scene["dynamics"]
-    limit = dyn["substep_fraction"] * courant_time_step_limit(setup.model, setup.liquid,
-                                                              setup.model.radius)
-    return dyn["window"] / np.ceil(dyn["window"] / limit)
+def window_substep(setup, window: float, fraction: float) -> float:
+    """XPBD substep (s): the ``window`` (s) cut into equal substeps no longer than
+    ``fraction`` of the explicit limit of the largest hydrostatic load."""
+    limit = fraction * courant_time_step_limit(setup.model, setup.liquid, setup.model.radius)
+    return window / np.ceil(window / limit)
 
 
 PORT_MIN_CELLS = {"radius": 1.5, "length": 2.0}

@@ -84,13 +84,20 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     """The membrane's static equilibrium at ``dynamics.start_fill`` (mirrored scale) under the
     hydrostatic liquid, by damped XPBD at the dynamics' substep: (state, Equilibrium)."""
     fill = setup.scene["dynamics"]["start_fill"]
-    volume = float(FillScale.mirrored(setup.model).volume(fill))
+    return static_equilibrium(setup, model, settings,
+                              float(FillScale.mirrored(setup.model).volume(fill)))
+
+
+def static_equilibrium(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
+    """The membrane's static equilibrium holding the liquid ``volume`` (m^3) under the
+    hydrostatic liquid, by damped XPBD at the substep of ``settings``: (state,
+    Equilibrium); a start that did not converge is logged."""
     start, info = solve_equilibrium(model, MembraneState(setup.model.node_rest_position),
                                     hydrostatic_load(setup.liquid, volume), settings)
     if not info.converged:
-        log.warning("static start at fill %.3f not converged after %d substeps (move ratio "
-                    "%.2e): the run starts from a membrane in motion", fill, info.steps,
-                    info.move_ratio)
+        log.warning("static start at liquid volume %.4g m^3 not converged after %d substeps "
+                    "(move ratio %.2e): the run starts from a membrane in motion", volume,
+                    info.steps, info.move_ratio)
     return start, info
 
 
@@ -164,7 +171,8 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     n_windows = max(1, int(round(dyn["end_time"] / dyn["window"])))
     run = Run(progress, n_windows, dyn["frame_interval"])
     model = XpbdModel.from_membrane(setup.model)
-    settings = XpbdSettings(dt=window_substep(setup), warm_start=False,
+    settings = XpbdSettings(dt=window_substep(setup, dyn["window"], dyn["substep_fraction"]),
+                            warm_start=False,
                             tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
     start, info = static_start(setup, model, settings)
     run.progress(0, f"static start: fill {dyn['start_fill']:.2f}, level "

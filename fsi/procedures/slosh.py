@@ -5,7 +5,9 @@
 * Excitation: ``[motion]`` (:mod:`fsi.motion`): ``impulse`` (a smooth lateral pulse, then
   free decay), ``sine`` (forced) or ``table``; the contents feel b(t) = g - a(t).
 * Surface (``slosh.surface``, a registry): ``limp``, the diaphragm slack, massless and
-  without bending, i.e. the liquid's free surface (:mod:`fsi.limp`, :mod:`fluid.free_surface`).
+  without bending, i.e. the liquid's free surface (:mod:`fsi.limp`, :mod:`fluid.free_surface`);
+  ``diaphragm``, the elastic membrane of ``[membrane]`` coupled to the liquid by
+  ``[coupling]`` (:mod:`.slosh_diaphragm`).
 * Liquid: incompressible flow on the 3-D immersed-boundary grid (``[fluid]``), one liquid
   step per window.
 * Per window (group ``windows``): time, the tank's acceleration, the liquid's momentum and
@@ -36,12 +38,24 @@ from ..lifecycle import Progress, Run, RunResult
 from ..motion import body_acceleration, tank_acceleration
 from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
 from ..slosh_response import contents_response, first_mode
-from .coupled import FLUID, MOTION
+from ..models import XPBD_COURANT_FRACTION
+from .coupled import COUPLING, FLUID, MOTION
 
 log = logging.getLogger(__name__)
 
-#: slosh.surface -> the function that runs the windows of that surface model
+#: slosh.surface -> the function that runs the windows of that surface model:
+#: (setup, start, body, run, window, n_windows) -> (samples, surface data, Contents)
 SURFACES: dict[str, Callable] = {}
+
+
+@dataclass
+class Contents:
+    """What the tank holds at the start: liquid volume (m^3), mass of the contents (kg,
+    liquid and membrane) and their centre of mass (3,) m."""
+
+    volume: float
+    mass: float
+    centre: np.ndarray
 
 
 def register_surface(name: str):
@@ -156,7 +170,8 @@ def _limp(setup, start: Start, body, run: Run, window: float, n_windows: int):
         run.progress(k + 1, f"t = {t:.3f} s, surface x-moment "
                             f"{float(np.sum(node_area * heights.ravel() * surface.plan[:, 0])):.3e}"
                             " m^4")
-    return samples, dict(node_plan=surface.plan, node_area=node_area), volume
+    contents = Contents(volume, setup.liquid.density * volume, start.centre)
+    return samples, dict(node_plan=surface.plan, node_area=node_area), contents
 
 
 def _node_areas(surface: HeightSurface, spacing: float, radius: float, level: float,
@@ -181,9 +196,13 @@ SLOSH = Table({
     "fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
                 "tank fraction V / (4/3 pi R^3) of the liquid at rest"),
     "surface": Key(str, "limp", *one_of(SURFACES),
-                   "the diaphragm model: limp (slack, massless, no bending: the free surface)"),
+                   "the diaphragm model: limp (slack, massless, no bending: the free surface) "
+                   "or diaphragm (the [membrane] coupled to the liquid by [coupling])"),
     "window": Key(float, 2e-3, lambda v: 0 < v <= 0.05, "0 < value <= 0.05 s",
-                  "time window (s): one liquid step"),
+                  "time window (s): one liquid step, one coupling window"),
+    "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,
+                            "0 < value <= 1", "diaphragm: XPBD substep / explicit limit of "
+                            "the load"),
     "end_time": Key(float, 5.0, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 25, lambda v: v >= 1, ">= 1",
                           "windows between recorded surface frames"),
@@ -204,15 +223,15 @@ def slosh(setup, progress: Progress) -> RunResult:
     start = _start(setup)
     body = body_acceleration(setup.liquid.body_acceleration, scene["motion"])
     acceleration = tank_acceleration(scene["motion"])
-    samples, surface_data, volume = SURFACES[table["surface"]](setup, start, body, run, window,
-                                                               n_windows)
+    samples, surface_data, contents = SURFACES[table["surface"]](setup, start, body, run,
+                                                                 window, n_windows)
+    volume, mass = contents.volume, contents.mass
     windows = {k: np.asarray([s[k] for s in samples]) for k in samples[0]}
     time = windows["time"]
     windows["tank_acceleration"] = np.array([acceleration(t) for t in time])
     body_t = np.array([body(t) for t in time])
-    mass = setup.liquid.density * volume
     windows.update(contents_response(time, body_t, windows["momentum"],
-                                     windows["angular_momentum"], mass, start.centre))
+                                     windows["angular_momentum"], mass, contents.centre))
     windows["dissipated_energy"] = np.concatenate(
         [[0.0], np.cumsum(0.5 * np.diff(time) * (windows["dissipation_rate"][1:]
                                                  + windows["dissipation_rate"][:-1]))])
@@ -222,18 +241,23 @@ def slosh(setup, progress: Progress) -> RunResult:
     gravity = -float(setup.liquid.body_acceleration[2])
     attrs = dict(
         surface=table["surface"], target_tank_fraction=table["fill"],
-        tank_fraction=volume / tank_volume, level=start.level, liquid_mass=mass,
-        centre_height=float(start.centre[2]), window=window, windows_planned=n_windows,
+        tank_fraction=volume / tank_volume, level=start.level,
+        liquid_mass=setup.liquid.density * volume, contents_mass=mass,
+        centre_height=float(contents.centre[2]), window=window, windows_planned=n_windows,
         windows_done=len(time) - 1, fluid_cells=scene["fluid"]["cells"],
         viscosity=scene["fluid"]["viscosity"], excitation=scene["motion"]["kind"],
         analysis_start=table["analysis_start"],
         peak_force_x=float(np.max(np.abs(windows["force"][:, 0]))),
         peak_moment_y=float(np.max(np.abs(windows["moment"][:, 1]))),
         wall_seconds=run.elapsed())
+    if "converged" in windows:
+        attrs.update(structure_model="xpbd",
+                     windows_not_converged=int(np.sum(~windows["converged"].astype(bool))),
+                     mean_coupling_iterations=float(np.mean(windows["coupling_iterations"][1:])))
     if scene["motion"]["kind"] in ("impulse", "table") and not run.failure:
         attrs.update(first_mode(time, windows["tank_acceleration"][:, 0],
                                 windows["centre_of_mass"][:, 0], windows["force"][:, 0],
-                                windows["moment"][:, 1], mass, float(start.centre[2]), gravity,
+                                windows["moment"][:, 1], mass, float(contents.centre[2]), gravity,
                                 radius, table["analysis_start"]))
         if attrs.get("omega"):
             attrs["seconds_per_period"] = attrs["wall_seconds"] / (
@@ -248,6 +272,10 @@ def report(result) -> None:
           f"(V / (4/3 pi R^3), target {a['target_tank_fraction']:.4f}), {a['windows_done']} "
           f"windows of {a['window']:g} s on {a['fluid_cells']}^3 cells, "
           f"{a['wall_seconds']:.1f} s")
+    if "windows_not_converged" in a:
+        print(f"  coupling: {a['mean_coupling_iterations']:.2f} iterations per window, "
+              f"{a['windows_not_converged']} windows accepted unconverged "
+              "(coupling.on_max_iterations)")
     print(f"  peak force on the tank F_x {a['peak_force_x']:.4g} N, peak moment M_y "
           f"{a['peak_moment_y']:.4g} N m")
     if a.get("analysis_failure"):
@@ -269,7 +297,8 @@ PROCEDURE = register_procedure(Procedure(
     summary="lateral slosh from rest at a tank fraction, port shut: frequency, damping, "
             "spring-mass equivalent, force and moment on the tank",
     run=slosh,
-    tables={"slosh": SLOSH, "fluid": FLUID, "motion": MOTION},
+    tables={"slosh": SLOSH, "fluid": FLUID, "motion": MOTION, "coupling": COUPLING},
+    structure_model="xpbd",
     check_setup=check_depth,
     report=report,
 ))

@@ -1,0 +1,114 @@
+"""What sets the elastic diaphragm's first slosh mode: one property varied at a time.
+
+    python benchmarks/slosh_diaphragm.py [--cells 16] [--grid-size 14] [--end-time 3.0]
+                                         [--cases base E/10 ...]
+
+Runs the bundled ``slosh-diaphragm`` scene (the Table 4.1 diaphragm, a 0.5 m/s^2 sin^2 lateral
+pulse over 0.1 s, then free decay) and its variants: Young's modulus / 10 and / 100
+(stiffness), density x 10 (mass), membrane grid N + 6 (how finely the folds are resolved),
+tank fraction 0.3 and 0.7; and the limp surface (the free-surface limit) at each tank
+fraction. Prints one JSON object with, per case, ``lambda1`` = omega^2 R / g,
+``frequency_hz``, ``zeta``, ``slosh_mass_fraction``, ``slosh_mass_height``, the coupling's
+iterations and unconverged windows and ``seconds_per_period``; the ratio of each lambda1 to
+the limp surface's at the same tank fraction. Writes ``benchmarks/output/slosh_diaphragm.png``
+(lambda1 and zeta by case).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+from pathlib import Path
+
+from fsi.build import build
+from fsi.procedures import PROCEDURES
+from fsi.scene import load_scene
+
+OUTPUT = Path(__file__).resolve().parent / "output"
+FIGURE = OUTPUT / "slosh_diaphragm.png"
+KEYS = ("lambda1", "frequency_hz", "zeta", "zeta_std", "slosh_mass_fraction",
+        "slosh_mass_height", "tank_fraction", "mean_coupling_iterations",
+        "windows_not_converged", "wall_seconds", "seconds_per_period")
+
+#: case -> (section, key, change): each changes one thing of the base scene
+CASES = {
+    "base": [],
+    "E/10": [("membrane", "youngs_modulus", 0.1)],
+    "E/100": [("membrane", "youngs_modulus", 0.01)],
+    "density x10": [("membrane", "density", 10.0)],
+    "N+6": [("membrane", "grid_size", 6)],
+    "fill 0.3": [("slosh", "fill", 0.3)],
+    "fill 0.7": [("slosh", "fill", 0.7)],
+}
+
+
+def run(case: str, cells: int, grid_size: int, end_time: float, surface: str) -> dict:
+    scene = load_scene("slosh-diaphragm")
+    v = scene.values
+    v["slosh"].update(end_time=end_time, surface=surface)
+    v["fluid"]["cells"] = cells
+    v["membrane"]["grid_size"] = grid_size
+    for section, key, change in CASES[case]:
+        if key == "grid_size":
+            v[section][key] += change
+        elif key == "fill":
+            v[section][key] = change
+        else:
+            v[section][key] *= change
+    result = PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
+    out = dict(case=case, surface=surface, cells=cells, grid_size=v["membrane"]["grid_size"],
+               fill=v["slosh"]["fill"], youngs_modulus=v["membrane"]["youngs_modulus"],
+               membrane_density=v["membrane"]["density"])
+    out.update({k: result.attrs.get(k) for k in KEYS})
+    for key in ("analysis_failure", "failure"):
+        if result.attrs.get(key):
+            out[key] = result.attrs[key]
+    return out
+
+
+def plot(cases: list[dict]) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    OUTPUT.mkdir(exist_ok=True)
+    shown = [c for c in cases if c.get("lambda1") is not None]
+    labels = [f"{c['case']}\n{c['surface']}" for c in shown]
+    fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    axes[0].bar(labels, [c["lambda1"] for c in shown])
+    axes[0].set_yscale("log")
+    axes[0].set_ylabel("$\\lambda_1 = \\omega^2 R / g$")
+    axes[1].bar(labels, [c["zeta"] for c in shown])
+    axes[1].set_ylabel("$\\zeta$")
+    axes[1].tick_params(axis="x", labelsize=7)
+    for ax in axes:
+        ax.grid(alpha=0.3, axis="y")
+    fig.savefig(FIGURE, dpi=90, bbox_inches="tight")
+    plt.close(fig)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cells", type=int, default=16)
+    parser.add_argument("--grid-size", type=int, default=14)
+    parser.add_argument("--end-time", type=float, default=3.0, help="simulated seconds")
+    parser.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
+    parser.add_argument("--no-limp", action="store_true", help="skip the limp references")
+    args = parser.parse_args()
+    logging.basicConfig(level=logging.WARNING)
+    cases = [run(c, args.cells, args.grid_size, args.end_time, "diaphragm")
+             for c in args.cases]
+    if not args.no_limp:
+        fills = sorted({c["fill"] for c in cases})
+        limp = {f: run({0.3: "fill 0.3", 0.7: "fill 0.7"}.get(f, "base"), args.cells,
+                       args.grid_size, args.end_time, "limp") for f in fills}
+        for c in cases:
+            ref = limp[c["fill"]].get("lambda1")
+            if c.get("lambda1") and ref:
+                c["lambda1_over_limp"] = c["lambda1"] / ref
+        cases += list(limp.values())
+    plot(cases)
+    print(json.dumps(dict(cases=cases, figure=str(FIGURE)), indent=1))
+
+
+if __name__ == "__main__":
+    main()

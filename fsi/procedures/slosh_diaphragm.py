@@ -1,0 +1,166 @@
+"""``slosh.surface = "diaphragm"``: the elastic diaphragm in a slosh run, membrane and liquid
+coupled in time.
+
+* Start: the membrane's static equilibrium (XPBD, :func:`.coupled_fill.static_equilibrium`)
+  holding the liquid volume of the tank fraction ``slosh.fill`` under the hydrostatic load;
+  the port is shut, so the membrane holds that volume throughout and the multiplier of the
+  volume is the uniform pressure level (:mod:`fsi.adapters`).
+* Structure: XPBD windows, substeps of ``slosh.substep_fraction`` of the explicit limit;
+  the membrane feels the body acceleration g - a(t) of the moving tank.
+* Liquid: the moving-wall projection step on the 3-D grid under the membrane closed by a can
+  (:class:`fsi.adapters.MembraneSurface`), no ports.
+* Coupling: the scene's ``[coupling]`` table, membrane first, liquid second.
+
+The contents are liquid and membrane: the momentum, angular momentum and mass that the
+force and moment on the tank come from are both parts' (the membrane's nodes as point
+masses), so the rigid-body part of the force is the whole contents' mass times b.
+Per window, beside the liquid's measures: the membrane's kinetic energy, its elastic energy
+(the XPBD constraints' potential: Saint Venant-Kirchhoff plane stress plus the mid-edge
+bending energy, J) and the gravitational potential energy of liquid and membrane against
+the start, - sum m b(t_0) . (x - x_0), J.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from coupling import CouplingError, run as couple
+from fluid.container import SphericalTank
+from fluid.measures import angular_momentum, dissipation_rate, kinetic_energy, momentum
+from fluid.model import FluidModel
+from fluid.solver import FluidSolver
+from fluid.tank import tank_grid
+from structure.hyperelastic import svk_energy_and_gradient
+from structure.volume import liquid_volume
+from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
+
+from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
+from .coupled import coupling_settings, window_substep
+from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
+from .slosh import Contents, register_surface
+
+
+def elastic_energy(model: XpbdModel, node_position: np.ndarray) -> float:
+    """The membrane's elastic energy (J) at ``node_position`` (n, 3) m: the Saint
+    Venant-Kirchhoff plane-stress energy of its triangles plus the mid-edge bending energy,
+    the potentials of its XPBD constraints."""
+    mat = model.base.material
+    x = np.ascontiguousarray(node_position, dtype=float)
+    stretch, _ = svk_energy_and_gradient(x, model.triangles, model.rest_inverse,
+                                         model.rest_area, mat.thickness, mat.youngs_modulus,
+                                         mat.poisson_ratio)
+    bend, _ = model.bending.energy_and_gradient(x)
+    return float(stretch + bend)
+
+
+def liquid_centroid(model: FluidModel, solver: FluidSolver) -> np.ndarray:
+    """(3,) m: the centre of the liquid's cut cells (fraction-weighted cell centres)."""
+    g = model.grid
+    weight = solver.state.geometry.cell_fraction * g.cell_volume
+    return np.average(model.grid_points(g.cell_centre), axis=0, weights=weight)
+
+
+@dataclass
+class _Parts:
+    """The coupled diaphragm and liquid at the start: the XPBD model, the fluid model and
+    solver, the closed surface, the membrane participant and the contents."""
+
+    xpbd: XpbdModel
+    model: FluidModel
+    fluid: FluidSolver
+    surface: MembraneSurface
+    membrane: MembraneParticipant
+    contents: Contents
+
+
+def _assemble(setup, body, run, window: float) -> _Parts:
+    """The static start at the tank fraction ``slosh.fill`` and both participants."""
+    scene = setup.scene
+    table = scene["slosh"]
+    radius = setup.model.radius
+    xpbd = XpbdModel.from_membrane(setup.model)
+    settings = XpbdSettings(dt=window_substep(setup, window, table["substep_fraction"]),
+                            warm_start=False, tolerance=START_TOLERANCE,
+                            max_steps=START_MAX_STEPS)
+    volume = table["fill"] * 4.0 / 3.0 * np.pi * radius**3
+    state, info = static_equilibrium(setup, xpbd, settings, volume)
+    run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
+                    f"{info.pressure_level:.1f} Pa")
+    grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
+    model = FluidModel(grid=grid, container=SphericalTank(radius),
+                       density=setup.liquid.density, viscosity=scene["fluid"]["viscosity"],
+                       body_acceleration=body)
+    surface = MembraneSurface(xpbd)
+    fluid = FluidSolver(model, surface.of(state))
+    held = liquid_volume(setup.model, state.node_position)
+    membrane = MembraneParticipant(xpbd, state, settings, lambda t: held, body,
+                                   info.pressure_level)
+    node_mass = setup.model.node_mass
+    liquid_mass = setup.liquid.density * fluid.liquid_volume
+    mass = liquid_mass + float(node_mass.sum())
+    centre = (liquid_mass * liquid_centroid(model, fluid) + node_mass @ state.node_position) / mass
+    return _Parts(xpbd, model, fluid, surface, membrane, Contents(held, mass, centre))
+
+
+def _sampler(setup, parts: _Parts, samples: list):
+    """sample(t, seconds): appends the window's record of the contents (module doc)."""
+    model, fluid, membrane = parts.model, parts.fluid, parts.membrane
+    node_mass = setup.model.node_mass
+    x0 = membrane.state.node_position.copy()
+    c0 = liquid_centroid(model, fluid)
+    liquid_mass = setup.liquid.density * fluid.liquid_volume
+    b0 = np.asarray(setup.liquid.body_acceleration, dtype=float)
+
+    def sample(t, seconds):
+        st, x, v = fluid.state, membrane.state.node_position, membrane.state.node_velocity
+        c = liquid_centroid(model, fluid)
+        samples.append(dict(
+            time=t,
+            momentum=momentum(model, st) + node_mass @ v,
+            angular_momentum=angular_momentum(model, st) + np.sum(
+                node_mass[:, None] * np.cross(x, v), axis=0),
+            liquid_kinetic_energy=kinetic_energy(model, st),
+            membrane_kinetic_energy=0.5 * float(node_mass @ np.sum(v * v, axis=1)),
+            membrane_elastic_energy=elastic_energy(parts.xpbd, x),
+            potential_energy=-float(liquid_mass * b0 @ (c - c0))
+            - float(node_mass @ ((x - x0) @ b0)),
+            dissipation_rate=dissipation_rate(model, st),
+            fluid_liquid_volume=fluid.liquid_volume,
+            membrane_liquid_volume=liquid_volume(setup.model, x),
+            pressure_level=membrane.level, wall_seconds=seconds))
+
+    return sample
+
+
+@register_surface("diaphragm")
+def _diaphragm(setup, start, body, run, window: float, n_windows: int):
+    """The elastic diaphragm's windows (module doc). Returns the per-window samples, the
+    membrane data and the :class:`Contents`."""
+    parts = _assemble(setup, body, run, window)
+    membrane = parts.membrane
+    samples = []
+    sample = _sampler(setup, parts, samples)
+
+    def on_window(w, data):
+        t = (w.index + 1) * window
+        sample(t, run.elapsed())
+        last = w.residuals[-1] if w.residuals else {}
+        samples[-1].update(coupling_iterations=w.iterations, converged=w.converged,
+                           residual_pressure=float(last.get(PRESSURE, np.nan)))
+        if run.frame_due(w.index + 1):
+            run.record("frames", dict(time=t, node_position=membrane.state.node_position.copy()))
+        run.progress(w.index + 1, f"t = {t:.3f} s, {w.iterations} it, contents x-momentum "
+                                  f"{samples[-1]['momentum'][0]:.3e} kg m/s")
+
+    sample(0.0, run.elapsed())
+    samples[0].update(coupling_iterations=0, converged=True, residual_pressure=0.0)
+    run.record("frames", dict(time=0.0, node_position=membrane.state.node_position.copy()))
+    try:
+        couple(membrane, FluidParticipant(parts.fluid, surface=parts.surface),
+               coupling_settings(setup.scene["coupling"]), window, n_windows,
+               on_window=on_window)
+    except (CouplingError, XpbdDivergence) as err:
+        run.stop(str(err))
+    return samples, dict(face_nodes=setup.model.face_nodes,
+                         node_mass=setup.model.node_mass), parts.contents
