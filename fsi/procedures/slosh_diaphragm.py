@@ -64,7 +64,8 @@ def liquid_centroid(model: FluidModel, solver: FluidSolver) -> np.ndarray:
 @dataclass
 class _Parts:
     """The coupled diaphragm and liquid at the start: the XPBD model, the fluid model and
-    solver, the closed surface, the membrane participant and the contents."""
+    solver, the closed surface, the membrane participant, the contents, the liquid's mass
+    (kg) and centroid (3,) m."""
 
     xpbd: XpbdModel
     model: FluidModel
@@ -72,6 +73,8 @@ class _Parts:
     surface: MembraneSurface
     membrane: MembraneParticipant
     contents: Contents
+    liquid_mass: float
+    liquid_centre: np.ndarray
 
 
 def _assemble(setup, body, run, window: float) -> _Parts:
@@ -99,8 +102,10 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     node_mass = setup.model.node_mass
     liquid_mass = setup.liquid.density * fluid.liquid_volume
     mass = liquid_mass + float(node_mass.sum())
-    centre = (liquid_mass * liquid_centroid(model, fluid) + node_mass @ state.node_position) / mass
-    return _Parts(xpbd, model, fluid, surface, membrane, Contents(held, mass, centre))
+    c0 = liquid_centroid(model, fluid)
+    centre = (liquid_mass * c0 + node_mass @ state.node_position) / mass
+    return _Parts(xpbd, model, fluid, surface, membrane, Contents(held, mass, centre),
+                  liquid_mass, c0)
 
 
 def _sampler(setup, parts: _Parts, samples: list):
@@ -108,8 +113,7 @@ def _sampler(setup, parts: _Parts, samples: list):
     model, fluid, membrane = parts.model, parts.fluid, parts.membrane
     node_mass = setup.model.node_mass
     x0 = membrane.state.node_position.copy()
-    c0 = liquid_centroid(model, fluid)
-    liquid_mass = setup.liquid.density * fluid.liquid_volume
+    c0, liquid_mass = parts.liquid_centre, parts.liquid_mass
     b0 = np.asarray(setup.liquid.body_acceleration, dtype=float)
 
     def sample(t, seconds):
