@@ -35,10 +35,10 @@ from fluid.tank import tank_grid, tank_spacing
 
 from ..limp import HeightSurface, advance_heights
 from ..lifecycle import Progress, Run, RunResult
+from ..models import XPBD_COURANT_FRACTION
 from ..motion import body_acceleration, tank_acceleration
 from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
 from ..slosh_response import contents_response, first_mode
-from ..models import XPBD_COURANT_FRACTION
 from .coupled import COUPLING, FLUID, MOTION
 
 log = logging.getLogger(__name__)

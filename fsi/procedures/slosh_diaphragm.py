@@ -38,7 +38,7 @@ from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
 from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
 from .coupled import coupling_settings, window_substep
 from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
-from .slosh import Contents, register_surface
+from .slosh import Contents, _tank_volume, register_surface
 
 
 def elastic_energy(model: XpbdModel, node_position: np.ndarray) -> float:
@@ -86,7 +86,7 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     settings = XpbdSettings(dt=window_substep(setup, window, table["substep_fraction"]),
                             warm_start=False, tolerance=START_TOLERANCE,
                             max_steps=START_MAX_STEPS)
-    volume = table["fill"] * 4.0 / 3.0 * np.pi * radius**3
+    volume = table["fill"] * _tank_volume(radius)
     state, info = static_equilibrium(setup, xpbd, settings, volume)
     run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
                     f"{info.pressure_level:.1f} Pa")
