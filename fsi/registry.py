@@ -26,7 +26,7 @@ class Key:
     kind: type
     default: Any
     check: Callable[[Any], bool]
-    allowed: str
+    allowed: "str | Names"
     doc: str
 
 
@@ -53,10 +53,25 @@ def is_vec3(v) -> bool:
         isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v)
 
 
-def one_of(names) -> tuple[Callable[[Any], bool], str]:
+class Names:
+    """The allowed text of a key whose value is one of ``names``, read when printed, so that
+    a registry filled after the schema is built (a surface registered by another module) is
+    listed whole."""
+
+    def __init__(self, names):
+        self.names = names
+
+    def __str__(self) -> str:
+        return ", ".join(repr(k) for k in self.names)
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self), spec)
+
+
+def one_of(names) -> tuple[Callable[[Any], bool], Names]:
     """(check, allowed text) of a key whose value is one of ``names`` (a registry or a
-    sequence; the check reads it when called)."""
-    return (lambda v: v in names), ", ".join(repr(k) for k in names)
+    sequence; both read it when called)."""
+    return (lambda v: v in names), Names(names)
 
 
 def short_number(x: float) -> str:

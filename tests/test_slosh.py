@@ -95,6 +95,12 @@ def test_bad_slosh_scene_is_named(text, key):
         build(parse_scene("[scene]\nprocedure = 'slosh'\n" + text))
 
 
+def test_bad_surface_lists_every_registered_surface():
+    """The diaphragm registers itself after the schema is built; the error still offers it."""
+    with pytest.raises(SceneError, match="allowed 'limp', 'diaphragm'"):
+        parse_scene("[scene]\nprocedure = 'slosh'\n[slosh]\nsurface = 'rubber'")
+
+
 SHORT = """
 [scene]
 name = "slosh-short"

@@ -35,7 +35,7 @@ from fluid.tank import tank_grid, tank_spacing
 
 from ..limp import HeightSurface, advance_heights
 from ..lifecycle import Progress, Run, RunResult
-from ..models import XPBD_COURANT_FRACTION
+from ..models import XPBD_COURANT_FRACTION, XPBD_DYNAMIC_SWEEPS
 from ..motion import body_acceleration, tank_acceleration
 from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
 from ..slosh_response import contents_response, first_mode
@@ -203,6 +203,9 @@ SLOSH = Table({
     "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,
                             "0 < value <= 1", "diaphragm: XPBD substep / explicit limit of "
                             "the load"),
+    "constraint_sweeps": Key(int, XPBD_DYNAMIC_SWEEPS, lambda v: 1 <= v <= 1000, "1..1000",
+                             "diaphragm: Gauss-Seidel sweeps of the XPBD constraints per "
+                             "substep (too few leave the membrane soft, README)"),
     "end_time": Key(float, 5.0, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 25, lambda v: v >= 1, ">= 1",
                           "windows between recorded surface frames"),

@@ -1,11 +1,13 @@
 """``slosh.surface = "diaphragm"``: the elastic diaphragm in a slosh run, membrane and liquid
 coupled in time.
 
-* Start: the membrane's static equilibrium (XPBD, :func:`.coupled_fill.static_equilibrium`)
+* Start: the membrane's static equilibrium (XPBD, :func:`.coupled_fill.static_equilibrium`,
+  with the windows' substep and sweeps, so that it is at rest under their dynamics)
   holding the liquid volume of the tank fraction ``slosh.fill`` under the hydrostatic load;
   the port is shut, so the membrane holds that volume throughout and the multiplier of the
   volume is the uniform pressure level (:mod:`fsi.adapters`).
-* Structure: XPBD windows, substeps of ``slosh.substep_fraction`` of the explicit limit;
+* Structure: XPBD windows, substeps of ``slosh.substep_fraction`` of the explicit limit,
+  ``slosh.constraint_sweeps`` Gauss-Seidel sweeps of the constraints per substep;
   the membrane feels the body acceleration g - a(t) of the moving tank.
 * Liquid: the moving-wall projection step on the 3-D grid under the membrane closed by a can
   (:class:`fsi.adapters.MembraneSurface`), no ports.
@@ -84,8 +86,8 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     radius = setup.model.radius
     xpbd = XpbdModel.from_membrane(setup.model)
     settings = XpbdSettings(dt=window_substep(setup, window, table["substep_fraction"]),
-                            warm_start=False, tolerance=START_TOLERANCE,
-                            max_steps=START_MAX_STEPS)
+                            iterations=table["constraint_sweeps"], warm_start=False,
+                            tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
     volume = table["fill"] * _tank_volume(radius)
     state, info = static_equilibrium(setup, xpbd, settings, volume)
     run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
