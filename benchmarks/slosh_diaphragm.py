@@ -6,8 +6,9 @@
 Runs the bundled ``slosh-diaphragm`` scene (the Table 4.1 diaphragm, a 0.5 m/s^2 sin^2 lateral
 pulse over 0.1 s, then free decay) and its variants: Young's modulus / 10 and / 100
 (stiffness), density x 10 (mass), membrane grid N + 6 (how finely the folds are resolved),
-tank fraction 0.3 and 0.7; and the limp surface (the free-surface limit) at each tank
-fraction. Prints one JSON object with, per case, ``lambda1`` = omega^2 R / g,
+tank fraction 0.3 and 0.7; by name, the XPBD sweeps per substep (1, 16, 64: the start's fold
+state and the membrane's stiffness) and the window (1 and 4 ms); and the limp surface (the
+free-surface limit) at each tank fraction. Prints one JSON object with, per case, ``lambda1`` = omega^2 R / g,
 ``frequency_hz``, ``zeta``, ``slosh_mass_fraction``, ``slosh_mass_height``, the coupling's
 iterations and unconverged windows and ``seconds_per_period``; the ratio of each lambda1 to
 the limp surface's at the same tank fraction. Writes ``benchmarks/output/slosh_diaphragm.png``
@@ -30,16 +31,23 @@ KEYS = ("lambda1", "frequency_hz", "zeta", "zeta_std", "slosh_mass_fraction",
         "slosh_mass_height", "tank_fraction", "mean_coupling_iterations",
         "windows_not_converged", "wall_seconds", "seconds_per_period")
 
-#: case -> (section, key, change): each changes one thing of the base scene
+#: case -> [(section, key, value from the base scene's value)]: each changes one thing
 CASES = {
     "base": [],
-    "E/10": [("membrane", "youngs_modulus", 0.1)],
-    "E/100": [("membrane", "youngs_modulus", 0.01)],
-    "density x10": [("membrane", "density", 10.0)],
-    "N+6": [("membrane", "grid_size", 6)],
-    "fill 0.3": [("slosh", "fill", 0.3)],
-    "fill 0.7": [("slosh", "fill", 0.7)],
+    "E/10": [("membrane", "youngs_modulus", lambda v: 0.1 * v)],
+    "E/100": [("membrane", "youngs_modulus", lambda v: 0.01 * v)],
+    "density x10": [("membrane", "density", lambda v: 10.0 * v)],
+    "N+6": [("membrane", "grid_size", lambda v: v + 6)],
+    "fill 0.3": [("slosh", "fill", lambda v: 0.3)],
+    "fill 0.7": [("slosh", "fill", lambda v: 0.7)],
+    "sweeps 1": [("slosh", "constraint_sweeps", lambda v: 1)],
+    "sweeps 16": [("slosh", "constraint_sweeps", lambda v: 16)],
+    "sweeps 64": [("slosh", "constraint_sweeps", lambda v: 64)],
+    "window 1 ms": [("slosh", "window", lambda v: 1e-3)],
+    "window 4 ms": [("slosh", "window", lambda v: 4e-3)],
 }
+DEFAULT_CASES = ["base", "E/10", "E/100", "density x10", "N+6", "fill 0.3", "fill 0.7"]
+"""What a plain run varies; the sweeps and window cases are asked for by name."""
 
 
 def run(case: str, cells: int, grid_size: int, end_time: float, surface: str) -> dict:
@@ -49,16 +57,15 @@ def run(case: str, cells: int, grid_size: int, end_time: float, surface: str) ->
     v["fluid"]["cells"] = cells
     v["membrane"]["grid_size"] = grid_size
     for section, key, change in CASES[case]:
-        if key == "grid_size":
-            v[section][key] += change
-        elif key == "fill":
-            v[section][key] = change
-        else:
-            v[section][key] *= change
+        v[section][key] = change(v[section][key])
     result = PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
     out = dict(case=case, surface=surface, cells=cells, grid_size=v["membrane"]["grid_size"],
                fill=v["slosh"]["fill"], youngs_modulus=v["membrane"]["youngs_modulus"],
-               membrane_density=v["membrane"]["density"])
+               membrane_density=v["membrane"]["density"], window=v["slosh"]["window"],
+               constraint_sweeps=v["slosh"]["constraint_sweeps"],
+               start_elastic_energy=float(result.groups["windows"]
+                                          ["membrane_elastic_energy"][0])
+               if surface == "diaphragm" else None)
     out.update({k: result.attrs.get(k) for k in KEYS})
     for key in ("analysis_failure", "failure"):
         if result.attrs.get(key):
@@ -91,7 +98,7 @@ def main() -> None:
     parser.add_argument("--cells", type=int, default=16)
     parser.add_argument("--grid-size", type=int, default=14)
     parser.add_argument("--end-time", type=float, default=3.0, help="simulated seconds")
-    parser.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
+    parser.add_argument("--cases", nargs="+", default=DEFAULT_CASES, choices=list(CASES))
     parser.add_argument("--no-limp", action="store_true", help="skip the limp references")
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)

@@ -50,21 +50,28 @@ def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre_x: np.ndarra
     """The first lateral mode from a free decay after ``start`` (s): the fit of the centre
     of mass's x (frequency, damping ratio, their standard errors), lambda1 = omega^2 R / g
     and the spring-mass equivalent (NASA SP-106) from the force and moment over the whole
-    record. Returns the attrs (empty values and ``analysis_failure`` when the record holds
-    no fittable decay)."""
+    record. Returns the attrs; ``analysis_failure`` says what failed: no fittable decay (no
+    values), or the spring-mass equivalent only (the decay's values kept)."""
     try:
         fit = fit_free_decay(time, centre_x, start=start)
-        model = equivalent_model(time, acceleration_x, force_x, moment_y, mass, centre_height,
-                                 gravity, fit)
     except ValueError as err:
         log.warning("no first-mode analysis: %s", err)
         return dict(analysis_failure=str(err))
-    out = {k: float(v) for k, v in asdict(model).items()}
-    out.update(lambda1=float(fit.omega**2 * radius / gravity),
+    out = dict(omega=float(fit.omega), frequency_hz=float(fit.frequency_hz),
+               zeta=float(fit.zeta), lambda1=float(fit.omega**2 * radius / gravity),
                lambda1_std=float(2 * fit.omega * fit.omega_std * radius / gravity),
                frequency_hz_std=float(fit.frequency_hz_std), zeta_std=float(fit.zeta_std),
                centre_of_mass_amplitude=abs(float(fit.amplitude)),
                centre_of_mass_amplitude_std=float(fit.amplitude_std),
                fit_samples=int(fit.samples), fit_rms_residual=float(fit.rms_residual),
                analysis_failure="")
+    try:
+        model = equivalent_model(time, acceleration_x, force_x, moment_y, mass, centre_height,
+                                 gravity, fit)
+    except ValueError as err:
+        log.warning("no spring-mass equivalent (the decay's frequency and damping are kept): "
+                    "%s", err)
+        out["analysis_failure"] = f"spring-mass equivalent: {err}"
+        return out
+    out.update({k: float(v) for k, v in asdict(model).items()})
     return out

@@ -247,3 +247,21 @@ def test_equivalent_model_rejects_bad_input():
         equivalent_model(t, a, fx, my, M_TOTAL, Z_CENTRE, G, None)
     with pytest.raises(ValueError, match="^force_x: fitted slosh mass"):  # m1 > total mass
         equivalent_model(t, a, fx, my, 0.5 * M1, Z_CENTRE, G, fit)
+
+
+def test_failed_spring_mass_keeps_the_decay():
+    """A force record no spring-mass model explains (its slosh mass would exceed the
+    contents') fails the equivalent only: the decay's frequency and damping are still
+    reported, and the failure names the equivalent."""
+    from fsi.slosh_response import first_mode
+    t = np.arange(0.0, 5.0, 0.002)
+    omega, zeta = 2 * np.pi * 1.36, 0.01
+    x = 1e-3 * np.exp(-zeta * omega * t) * np.cos(omega * t)
+    a = np.where(t < 0.1, 0.5 * np.sin(np.pi * t / 0.1) ** 2, 0.0)
+    out = first_mode(t, a, x, 1e5 * x, np.zeros_like(t), 20.0, -0.1, 9.81, 0.20955, 0.15)
+    assert out["analysis_failure"].startswith("spring-mass equivalent:")
+    assert "slosh_mass" not in out
+    natural = omega / np.sqrt(1 - zeta**2)  # the signal oscillates at the damped frequency
+    assert out["frequency_hz"] == pytest.approx(natural / (2 * np.pi), rel=1e-6)
+    assert out["zeta"] == pytest.approx(zeta, rel=1e-4)
+    assert out["lambda1"] == pytest.approx(natural**2 * 0.20955 / 9.81, rel=1e-6)

@@ -281,12 +281,16 @@ def report(result) -> None:
               "(coupling.on_max_iterations)")
     print(f"  peak force on the tank F_x {a['peak_force_x']:.4g} N, peak moment M_y "
           f"{a['peak_moment_y']:.4g} N m")
+    if "lambda1" not in a:
+        if a.get("analysis_failure"):
+            print(f"  first mode: not analysed ({a['analysis_failure']})")
+        return
+    print(f"  first mode: {a['frequency_hz']:.4f} +- {a['frequency_hz_std']:.1e} Hz, "
+          f"lambda1 = omega^2 R / g = {a['lambda1']:.4f}, zeta = {a['zeta']:.5f} +- "
+          f"{a['zeta_std']:.1e}")
     if a.get("analysis_failure"):
-        print(f"  first mode: not analysed ({a['analysis_failure']})")
-    elif "lambda1" in a:
-        print(f"  first mode: {a['frequency_hz']:.4f} +- {a['frequency_hz_std']:.1e} Hz, "
-              f"lambda1 = omega^2 R / g = {a['lambda1']:.4f}, zeta = {a['zeta']:.5f} +- "
-              f"{a['zeta_std']:.1e}")
+        print(f"  {a['analysis_failure']}")
+    else:
         print(f"  spring-mass equivalent: slosh mass {a['slosh_mass']:.3f} kg "
               f"({100 * a['slosh_mass_fraction']:.1f} % of {a['total_mass']:.3f} kg) at "
               f"z = {a['slosh_mass_height']:.4f} m, fixed mass {a['fixed_mass']:.3f} kg at "
