@@ -57,7 +57,7 @@ def _series(name: str, value, length: int | None = None) -> np.ndarray:
     return arr
 
 
-def _time(name: str, value, minimum: int = 2) -> np.ndarray:
+def checked_time(name: str, value, minimum: int = 2) -> np.ndarray:
     """``value`` as a strictly increasing finite 1-D float array of at least ``minimum``."""
     t = _series(name, value)
     if t.size < minimum:
@@ -67,7 +67,7 @@ def _time(name: str, value, minimum: int = 2) -> np.ndarray:
     return t
 
 
-def _uniform_step(name: str, t: np.ndarray) -> float:
+def uniform_step(name: str, t: np.ndarray) -> float:
     """The step (s) of uniformly spaced times ``t`` (n,) s; ValueError when not uniform."""
     dt = (t[-1] - t[0]) / (t.size - 1)
     deviation = float(np.max(np.abs(np.diff(t) - dt)) / dt)
@@ -77,7 +77,7 @@ def _uniform_step(name: str, t: np.ndarray) -> float:
     return dt
 
 
-def _scalar(name: str, value, positive: bool = False) -> float:
+def checked_scalar(name: str, value, positive: bool = False) -> float:
     """``value`` as a finite float (> 0 when ``positive``)."""
     try:
         x = float(value)
@@ -159,10 +159,10 @@ def fit_free_decay(time, signal, start: float | None = None,
     Raises ValueError with fewer than MIN_SAMPLES samples or MIN_PERIODS periods in
     [start, stop], non-uniform sampling, or when no oscillating pole is found.
     """
-    t_all = _time("time", time)
+    t_all = checked_time("time", time)
     y_all = _series("signal", signal, t_all.size)
-    lo = t_all[0] if start is None else _scalar("start", start)
-    hi = t_all[-1] if stop is None else _scalar("stop", stop)
+    lo = t_all[0] if start is None else checked_scalar("start", start)
+    hi = t_all[-1] if stop is None else checked_scalar("stop", stop)
     if hi <= lo:
         raise ValueError(f"stop: must be greater than start ({hi!r} <= {lo!r})")
     keep = (t_all >= lo) & (t_all <= hi)
@@ -170,7 +170,7 @@ def fit_free_decay(time, signal, start: float | None = None,
         raise ValueError(f"time: {np.count_nonzero(keep)} samples in [start, stop], need at "
                          f"least {MIN_SAMPLES}")
     t, y = t_all[keep], y_all[keep]
-    dt = _uniform_step("time", t)
+    dt = uniform_step("time", t)
     guess = _pencil_guess(y, dt)
     _check_periods(guess[2], guess[1], t[-1] - t[0])
     params, std, residual = _refine(t - t[0], y, guess)
@@ -201,10 +201,10 @@ def _pencil_guess(y: np.ndarray, dt: float) -> tuple[float, float, float, float,
     every exponential an exponential (pole z -> z^q, amplitude times the block gain)."""
     mean = float(np.mean(y))
     centred = y - mean
-    q = _block_size(centred)
+    q = block_size(centred)
     m = centred.size // q
     blocks = centred[:m * q].reshape(m, q).mean(axis=1)
-    pole, coefficient = _dominant_pole(blocks, _pencil_poles(blocks))
+    pole, coefficient = _dominant_pole(blocks, pencil_poles(blocks))
     s = np.log(pole) / (q * dt)  # -zeta omega + i omega_d, 1/s
     omega = float(np.abs(s))
     zeta = float(-s.real / omega)
@@ -213,7 +213,7 @@ def _pencil_guess(y: np.ndarray, dt: float) -> tuple[float, float, float, float,
     return 2.0 * float(np.abs(c0)), zeta, omega, float(np.angle(c0)), mean
 
 
-def _block_size(y: np.ndarray) -> int:
+def block_size(y: np.ndarray) -> int:
     """Samples per block so that the pencil sees at most ~PENCIL_MAX_SAMPLES samples and at
     least PENCIL_MIN_SAMPLES_PER_PERIOD per period of the spectral peak of ``y`` (n,)."""
     n = y.size
@@ -225,12 +225,15 @@ def _block_size(y: np.ndarray) -> int:
     return max(1, min(wanted, n // (peak * PENCIL_MIN_SAMPLES_PER_PERIOD)))
 
 
-def _pencil_poles(y: np.ndarray) -> np.ndarray:
-    """Poles z_k (complex, (order,)) of y[n] ~ sum_k c_k z_k^n, ``y`` (n,), by the SVD
-    matrix pencil (Sarkar & Pereira 1995, eqs. 21-24), pencil parameter L = n / 3."""
-    n = y.size
+def pencil_poles(y: np.ndarray) -> np.ndarray:
+    """Poles z_k (complex, (order,)) of y[n] ~ sum_k c_k z_k^n, ``y`` (n,) or (n, channels)
+    sharing the poles, by the SVD matrix pencil (Sarkar & Pereira 1995, eqs. 21-24; the
+    channels' Hankel matrices stacked), pencil parameter L = n / 3."""
+    y = y[:, None] if y.ndim == 1 else y
+    n = y.shape[0]
     pencil = max(n // 3, 2)
-    hankel = np.lib.stride_tricks.sliding_window_view(y, pencil + 1)  # (n - L, L + 1)
+    hankel = np.concatenate([np.lib.stride_tricks.sliding_window_view(column, pencil + 1)
+                             for column in y.T])  # (channels (n - L), L + 1)
     _, singular, vh = np.linalg.svd(hankel, full_matrices=False)
     if singular[0] <= 0.0:
         raise ValueError("signal: no oscillating pole found (constant signal)")
@@ -319,10 +322,10 @@ def pulse_response(time, acceleration, omega: float,
     exact for that input); ``omega`` (rad/s) > 0; ``zeta`` (-) finite.
     Returns x (n,) m, xdot (n,) m/s and xddot (n,) m/s^2, the last from the ODE itself.
     """
-    t = _time("time", time)
+    t = checked_time("time", time)
     a = _series("acceleration", acceleration, t.size)
-    w = _scalar("omega", omega, positive=True)
-    z = _scalar("zeta", zeta)
+    w = checked_scalar("omega", omega, positive=True)
+    z = checked_scalar("zeta", zeta)
     system = np.array([[0.0, 1.0], [-w * w, -2.0 * z * w]])
     steps = np.diff(t)
     mean_step = (t[-1] - t[0]) / (t.size - 1)
@@ -383,59 +386,81 @@ class MechanicalModel:
     slosh_mass_height_std: float
     force_residual: float
     moment_residual: float
+    other_slosh_mass: tuple = ()
+    other_slosh_mass_height: tuple = ()
 
 
 def equivalent_model(time, acceleration, force_x, moment_y, total_mass: float,
-                     centre_height: float, gravity: float, fit: DecayFit) -> MechanicalModel:
+                     centre_height: float, gravity: float, fit, others=()) -> MechanicalModel:
     """Spring-mass equivalent of the first slosh mode from a lateral-excitation record.
 
     ``time`` (n,) s strictly increasing; ``acceleration`` a (n,) m/s^2 the tank's lateral
     acceleration along x; ``force_x`` F_x (n,) N and ``moment_y`` M_y (n,) N m the contents'
     force on the tank and its moment about the tank centre; ``total_mass`` (kg) > 0;
     ``centre_height`` (m) z of the contents' centre of mass at rest; ``gravity`` g (m/s^2)
-    > 0; ``fit`` the :class:`DecayFit` of the first mode (its omega and zeta are used).
+    > 0; ``fit`` the first mode (a :class:`DecayFit` or :class:`fsi.slosh_modes.Mode`: its
+    omega and zeta are used); ``others`` further modes of the same record, each with its
+    own slosh mass (SP-106's m_n) regressed together with the first.
 
-    With x1 the unit response (:func:`pulse_response`), F_x = -M a - m1 xdd1 and
-    M_y = -a M z_c - m1 h1 xdd1 + m1 g x1: m1 by linear least squares of (F_x + M a) on
-    (-xdd1), then h1 of (M_y + a M z_c - m1 g x1) on (-m1 xdd1), over all samples.
-    Raises ValueError on bad input or a fitted slosh mass outside (0, total_mass).
+    With x_j the unit response of mode j (:func:`pulse_response`),
+    F_x = -M a - sum_j m_j xdd_j and M_y = -a M z_c - sum_j m_j (h_j xdd_j - g x_j): the
+    m_j by linear least squares of (F_x + M a) on (-xdd_j), then the m_j h_j of
+    (M_y + a M z_c - g sum_j m_j x_j) on (-xdd_j), over all samples; the fixed mass is
+    M - sum_j m_j. For a mode whose motion is along a direction phi from x, m_j is its x
+    share, m cos^2 phi. Raises ValueError on bad input or a first slosh mass outside
+    (0, total_mass), or slosh masses summing above it.
     """
-    t = _time("time", time, minimum=3)
+    t = checked_time("time", time, minimum=3)
     a = _series("acceleration", acceleration, t.size)
     fx = _series("force_x", force_x, t.size)
     my = _series("moment_y", moment_y, t.size)
-    mass = _scalar("total_mass", total_mass, positive=True)
-    zc = _scalar("centre_height", centre_height)
-    g = _scalar("gravity", gravity, positive=True)
-    if not isinstance(fit, DecayFit):
-        raise ValueError(f"fit: must be a DecayFit, got {type(fit).__name__}")
-    x1, _, xdd1 = pulse_response(t, a, fit.omega, fit.zeta)
-    m1, m1_std, force_residual = _regress(fx + mass * a, -xdd1)
-    if not 0.0 < m1 < mass:
-        raise ValueError(f"force_x: fitted slosh mass {m1:.6g} kg is not in (0, total_mass = "
-                         f"{mass:.6g} kg)")
-    h1, h1_std, moment_residual = _regress(my + a * mass * zc - m1 * g * x1, -m1 * xdd1)
-    m0 = mass - m1
+    mass = checked_scalar("total_mass", total_mass, positive=True)
+    zc = checked_scalar("centre_height", centre_height)
+    g = checked_scalar("gravity", gravity, positive=True)
+    for name, mode in [("fit", fit)] + [("others", m) for m in others]:
+        if not (hasattr(mode, "omega") and hasattr(mode, "zeta")):
+            raise ValueError(f"{name}: must be a fitted mode (omega, zeta), got "
+                             f"{type(mode).__name__}")
+    responses = [pulse_response(t, a, mode.omega, mode.zeta) for mode in [fit, *others]]
+    x = np.column_stack([r[0] for r in responses])
+    xdd = np.column_stack([r[2] for r in responses])
+    masses, mass_std, force_residual = _regress(fx + mass * a, -xdd)
+    m1 = masses[0]
+    if not 0.0 < m1 < mass or masses.sum() >= mass:
+        raise ValueError(f"force_x: fitted slosh mass {m1:.6g} kg (all modes "
+                         f"{masses.sum():.6g} kg) is not in (0, total_mass = {mass:.6g} kg)")
+    moments, moment_std, moment_residual = _regress(my + a * mass * zc - g * (x @ masses),
+                                                    -xdd)
+    heights = moments / masses
+    h1 = heights[0]
+    m0 = mass - masses.sum()
     length = g / fit.omega**2
     return MechanicalModel(
         total_mass=mass, centre_height=zc, slosh_mass=m1, slosh_mass_fraction=m1 / mass,
-        slosh_mass_height=h1, fixed_mass=m0, fixed_mass_height=(mass * zc - m1 * h1) / m0,
+        slosh_mass_height=h1, fixed_mass=m0,
+        fixed_mass_height=(mass * zc - masses @ heights) / m0,
         spring_stiffness=m1 * fit.omega**2, pendulum_length=length, hinge_height=h1 + length,
         omega=fit.omega, frequency_hz=fit.frequency_hz, zeta=fit.zeta,
-        slosh_mass_std=m1_std, slosh_mass_height_std=h1_std,
-        force_residual=force_residual, moment_residual=moment_residual)
+        slosh_mass_std=float(mass_std[0]), slosh_mass_height_std=float(moment_std[0] / abs(m1)),
+        force_residual=force_residual, moment_residual=moment_residual,
+        other_slosh_mass=tuple(float(v) for v in masses[1:]),
+        other_slosh_mass_height=tuple(float(v) for v in heights[1:]))
 
 
-def _regress(target: np.ndarray, regressor: np.ndarray) -> tuple[float, float, float]:
-    """(coefficient, its standard error, rms residual / rms target) of target ~ c regressor,
-    both (n,); ValueError when the regressor is zero (no slosh excited)."""
-    norm2 = float(regressor @ regressor)
-    if norm2 <= 0.0:
+def _regress(target: np.ndarray, regressors: np.ndarray) -> tuple[np.ndarray, np.ndarray,
+                                                                   float]:
+    """(coefficients (m,), their standard errors (m,), rms residual / rms target) of
+    target (n,) ~ regressors (n, m) @ c; ValueError when a regressor is zero (no slosh
+    excited)."""
+    regressors = regressors.reshape(target.size, -1)
+    if np.any(np.sum(regressors**2, axis=0) <= 0.0):
         raise ValueError("acceleration: excites no slosh response (unit response is zero)")
-    coefficient = float(regressor @ target) / norm2
-    residual = target - coefficient * regressor
+    coefficients = np.linalg.lstsq(regressors, target, rcond=None)[0]
+    residual = target - regressors @ coefficients
     rss = float(residual @ residual)
-    std = float(np.sqrt(rss / (target.size - 1) / norm2))
+    dof = max(target.size - regressors.shape[1], 1)
+    std = np.sqrt(np.clip(np.diag(rss / dof * np.linalg.pinv(regressors.T @ regressors)),
+                          0.0, None))
     total = float(target @ target)
     relative = float(np.sqrt(rss / total)) if total > 0.0 else 0.0
-    return coefficient, std, relative
+    return coefficients, std, relative

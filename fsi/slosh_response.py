@@ -19,7 +19,8 @@ from dataclasses import asdict
 
 import numpy as np
 
-from .slosh_analysis import equivalent_model, fit_free_decay
+from .slosh_analysis import equivalent_model
+from .slosh_modes import fit_modes
 
 log = logging.getLogger(__name__)
 
@@ -44,34 +45,50 @@ def contents_response(time: np.ndarray, body: np.ndarray, momentum: np.ndarray,
     return dict(force=force, moment=moment, centre_of_mass=centre)
 
 
-def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre_x: np.ndarray,
+def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre: np.ndarray,
                force_x: np.ndarray, moment_y: np.ndarray, mass: float, centre_height: float,
                gravity: float, radius: float, start: float) -> dict:
-    """The first lateral mode from a free decay after ``start`` (s): the fit of the centre
-    of mass's x (frequency, damping ratio, their standard errors), lambda1 = omega^2 R / g
-    and the spring-mass equivalent (NASA SP-106) from the force and moment over the whole
-    record. Returns the attrs; ``analysis_failure`` says what failed: no fittable decay (no
-    values), or the spring-mass equivalent only (the decay's values kept)."""
+    """The lateral modes from a free decay after ``start`` (s): the fit of the centre of
+    mass's x and y, ``centre`` (n, 2) m (or (n,) for x alone; :func:`fsi.slosh_modes.fit_modes`),
+    the first (lowest) mode's frequency, damping ratio, their standard errors and
+    lambda1 = omega^2 R / g, every mode's as ``mode_*`` arrays (ascending frequency, with
+    its direction from x in degrees and its x slosh mass), and the spring-mass equivalent
+    (NASA SP-106) from the force and moment over the whole record, every fitted mode with
+    a slosh mass of its own. Returns the attrs; ``analysis_failure`` says what failed: no
+    fittable decay (no values), or the spring-mass equivalent only (the decay's values
+    kept)."""
     try:
-        fit = fit_free_decay(time, centre_x, start=start)
+        fit = fit_modes(time, centre, start=start)
     except ValueError as err:
         log.warning("no first-mode analysis: %s", err)
         return dict(analysis_failure=str(err))
-    out = dict(omega=float(fit.omega), frequency_hz=float(fit.frequency_hz),
-               zeta=float(fit.zeta), lambda1=float(fit.omega**2 * radius / gravity),
-               lambda1_std=float(2 * fit.omega * fit.omega_std * radius / gravity),
-               frequency_hz_std=float(fit.frequency_hz_std), zeta_std=float(fit.zeta_std),
-               centre_of_mass_amplitude=abs(float(fit.amplitude)),
-               centre_of_mass_amplitude_std=float(fit.amplitude_std),
-               fit_samples=int(fit.samples), fit_rms_residual=float(fit.rms_residual),
+    first = fit.first
+    modes = fit.modes
+    out = dict(omega=first.omega, frequency_hz=first.frequency_hz, zeta=first.zeta,
+               lambda1=float(first.omega**2 * radius / gravity),
+               lambda1_std=float(2 * first.omega * first.omega_std * radius / gravity),
+               frequency_hz_std=first.frequency_hz_std, zeta_std=first.zeta_std,
+               centre_of_mass_amplitude=float(first.amplitude[0]),
+               centre_of_mass_amplitude_std=float(first.amplitude_std[0]),
+               modes=len(modes),
+               mode_frequency_hz=np.array([m.frequency_hz for m in modes]),
+               mode_frequency_hz_std=np.array([m.frequency_hz_std for m in modes]),
+               mode_zeta=np.array([m.zeta for m in modes]),
+               mode_zeta_std=np.array([m.zeta_std for m in modes]),
+               mode_direction_deg=np.array([m.direction_deg for m in modes]),
+               fit_samples=fit.samples, fit_rms_residual=fit.rms_residual,
                analysis_failure="")
     try:
         model = equivalent_model(time, acceleration_x, force_x, moment_y, mass, centre_height,
-                                 gravity, fit)
+                                 gravity, first, others=modes[1:])
     except ValueError as err:
         log.warning("no spring-mass equivalent (the decay's frequency and damping are kept): "
                     "%s", err)
         out["analysis_failure"] = f"spring-mass equivalent: {err}"
         return out
-    out.update({k: float(v) for k, v in asdict(model).items()})
+    values = asdict(model)
+    others, heights = values.pop("other_slosh_mass"), values.pop("other_slosh_mass_height")
+    out.update({k: float(v) for k, v in values.items()})
+    out.update(mode_slosh_mass=np.array([model.slosh_mass, *others]),
+               mode_slosh_mass_height=np.array([model.slosh_mass_height, *heights]))
     return out

@@ -259,7 +259,7 @@ def slosh(setup, progress: Progress) -> RunResult:
                      mean_coupling_iterations=float(np.mean(windows["coupling_iterations"][1:])))
     if scene["motion"]["kind"] in ("impulse", "table") and not run.failure:
         attrs.update(first_mode(time, windows["tank_acceleration"][:, 0],
-                                windows["centre_of_mass"][:, 0], windows["force"][:, 0],
+                                windows["centre_of_mass"][:, :2], windows["force"][:, 0],
                                 windows["moment"][:, 1], mass, float(contents.centre[2]), gravity,
                                 radius, table["analysis_start"]))
         if attrs.get("omega"):
@@ -288,6 +288,12 @@ def report(result) -> None:
     print(f"  first mode: {a['frequency_hz']:.4f} +- {a['frequency_hz_std']:.1e} Hz, "
           f"lambda1 = omega^2 R / g = {a['lambda1']:.4f}, zeta = {a['zeta']:.5f} +- "
           f"{a['zeta_std']:.1e}")
+    for k in range(1, int(a.get("modes", 1))):
+        mass = (f", x slosh mass {a['mode_slosh_mass'][k]:.3f} kg"
+                if "mode_slosh_mass" in a else "")
+        print(f"  mode {k + 1}: {a['mode_frequency_hz'][k]:.4f} Hz, zeta = "
+              f"{a['mode_zeta'][k]:.5f}, along {a['mode_direction_deg'][k]:.0f} deg from x "
+              f"(mode 1 along {a['mode_direction_deg'][0]:.0f} deg){mass}")
     if a.get("analysis_failure"):
         print(f"  {a['analysis_failure']}")
     else:
