@@ -1,7 +1,7 @@
 """Energy and linearity of the limp (free-surface) slosh: what the scheme keeps and loses.
 
     python benchmarks/slosh_energy.py [--fills 0.5 0.53] [--cells 16] [--end-time 5.0]
-                                      [--viscosity 0.05]
+                                      [--viscosity 0.05] [--pulse-scale 1.0]
 
 Runs the bundled ``slosh-half`` scene (a 0.5 m/s^2 sin^2 lateral pulse over 0.1 s, then free
 decay, 2 ms windows) at each tank fraction V / (4/3 pi R^3) three ways and prints one JSON
@@ -91,6 +91,13 @@ def energy_figures(inviscid, viscous) -> dict:
     return out
 
 
+def _surface_amplitude(result) -> float:
+    """m: the largest rise or fall of the surface's nodes from the level after the pulse,
+    over the frames."""
+    heights = result.groups["frames"]["surface_height"]
+    return float(np.max(np.abs(heights[1:] - heights[0])))
+
+
 def linearity_figures(full, half) -> dict:
     """The first mode's amplitude and frequency under half the pulse, over the full one's."""
     fit_full, fit_half = full.attrs, half.attrs
@@ -106,13 +113,19 @@ def main(argv=None) -> None:
     parser.add_argument("--cells", type=int, default=16)
     parser.add_argument("--end-time", type=float, default=5.0)
     parser.add_argument("--viscosity", type=float, default=VISCOSITY)
+    parser.add_argument("--pulse-scale", type=float, default=1.0,
+                        help="times the scene's 0.5 m/s^2 pulse")
     args = parser.parse_args(argv)
     cases = []
+    scale = args.pulse_scale
     for fill in args.fills:
-        inviscid = run(fill, args.cells, args.end_time)
-        viscous = run(fill, args.cells, args.end_time, viscosity=args.viscosity)
-        half = run(fill, args.cells, args.end_time, pulse_scale=0.5)
-        case = dict(fill=fill, cells=args.cells, viscosity=args.viscosity, lambda1=inviscid.attrs.get("lambda1"),
+        inviscid = run(fill, args.cells, args.end_time, pulse_scale=scale)
+        viscous = run(fill, args.cells, args.end_time, viscosity=args.viscosity,
+                      pulse_scale=scale)
+        half = run(fill, args.cells, args.end_time, pulse_scale=0.5 * scale)
+        case = dict(fill=fill, cells=args.cells, viscosity=args.viscosity, pulse_scale=scale,
+                    surface_amplitude=_surface_amplitude(inviscid),
+                    lambda1=inviscid.attrs.get("lambda1"),
                     wall_seconds=inviscid.attrs["wall_seconds"])
         case.update(energy_figures(inviscid, viscous))
         case.update(linearity_figures(inviscid, half))

@@ -17,14 +17,19 @@ is the one of the discrete viscous operator of the momentum predictor,
     Phi = sum_inner faces mu_f A_f / d_f |u_P - u_N|^2   (W)
 
 over faces with a liquid-centre cell on at least one side (mu_f / theta at the immersed wall,
-where the other cell holds the wall's velocity; no stress on a free surface's faces).
+where the other cell holds the wall's velocity; no stress on a free surface's faces), plus
+the wall's shear on the ring of faces between two wall-centred cells, which the predictor
+holds back towards the wall's velocity at the rate r_f = nu / l_f^2
+(:func:`fluid.projection.ring_drag_rate`),
+
+    Phi_ring = rho sum_ring V_f r_f (u_f - u_wall,f)^2   (W).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from .model import FluidModel, FluidState
-from .projection import viscous_face_coefficient
+from .projection import interpolate_to_faces, ring_drag_rate, viscous_face_coefficient, wall_ring
 
 
 def _check(model: FluidModel) -> None:
@@ -88,4 +93,9 @@ def dissipation_rate(model: FluidModel, state: FluidState,
     u = np.where(fluid[:, None], state.cell_velocity, wall)
     jump = np.sum((u[a[use]] - u[b[use]]) ** 2, axis=1)
     faces = inner[use]
-    return float(np.sum(mu[faces] * g.face_area[faces] / g.face_distance[faces] * jump))
+    cells = float(np.sum(mu[faces] * g.face_area[faces] / g.face_distance[faces] * jump))
+    ring = wall_ring(model, geometry)
+    slip = (state.face_velocity - interpolate_to_faces(model, wall, fluid))[ring]
+    rate = ring_drag_rate(model, geometry.face_fraction[ring])
+    return cells + float(model.density * np.sum(face_volumes(model, state)[ring] * rate
+                                                 * slip**2))

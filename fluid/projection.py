@@ -384,6 +384,22 @@ def _momentum_predictor(ops, geometry, wall, inputs: MomentumInputs):
     return u_star, iterations
 
 
+def wall_ring(model: FluidModel, geometry: Geometry) -> np.ndarray:
+    """(n_faces,) bool: the wetted inner faces between two wall-centred cells (the ring of cut
+    cells along an immersed wall), which have no momentum equation of their own."""
+    p_cell, n_cell = model.grid.face_cells
+    fluid = geometry.fluid_centre
+    return (n_cell >= 0) & (geometry.face_fraction > 0) & ~fluid[p_cell] & \
+        ~fluid[np.maximum(n_cell, 0)]
+
+
+def ring_drag_rate(model: FluidModel, ring_fraction: np.ndarray) -> np.ndarray:
+    """(k,) 1/s: nu / l^2, the rate at which the wall's shear holds back a ring face of wetted
+    fraction ``ring_fraction`` (k,) across a layer l = max(beta / 2, THETA_MIN) h."""
+    layer = np.maximum(0.5 * ring_fraction, THETA_MIN) * model.grid.spacing
+    return model.viscosity / (model.density * layer**2)
+
+
 def _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old, grad_f_old, u_flow,
                     dt):
     """Step 2: Rhie-Chow face velocities u*_f (n_faces,) m/s along FiPy's normals."""
@@ -399,15 +415,13 @@ def _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old, grad_
     # beta h / 2 thick (implicit). Without the memory the ring restarts from the wall velocity
     # every step and the liquid column behaves as if an O(h) heavier.
     p_cell, n_cell = g.face_cells
-    ring = (n_cell >= 0) & (beta > 0) & ~fluid[p_cell] & ~fluid[np.maximum(n_cell, 0)] & \
-        (state.geometry.face_fraction > 0)
+    ring = wall_ring(model, geometry) & (state.geometry.face_fraction > 0)
     old_cells = np.where(fluid[:, None], state.cell_velocity, wall)
     u_face[ring] += (state.face_velocity - interpolate_to_faces(model, old_cells, fluid))[ring]
     if model.viscosity > 0 and ring.any():
-        layer = np.maximum(0.5 * beta[ring], THETA_MIN) * g.spacing
         u_wall = interpolate_to_faces(model, wall, fluid)[ring]
         u_face[ring] = u_wall + (u_face[ring] - u_wall) / \
-            (1.0 + dt * model.viscosity / (rho * layer**2))
+            (1.0 + dt * ring_drag_rate(model, beta[ring]))
     exterior = n_cell < 0
     u_face[exterior & ~ops.pressure_faces] = 0.0
     u_face[ops.flow_faces] = u_flow[ops.flow_faces]
