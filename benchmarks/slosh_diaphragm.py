@@ -9,7 +9,8 @@ pulse over 0.1 s, then free decay) and its variants: Young's modulus / 10 and / 
 tank fraction 0.3 and 0.7; by name, the XPBD sweeps per substep (1, 16, 32, 128: the start's fold
 state and the membrane's stiffness) and the window (1 and 4 ms); and the limp surface (the
 free-surface limit) at each tank fraction. Prints one JSON object with, per case, ``lambda1`` = omega^2 R / g,
-``frequency_hz``, ``zeta``, ``slosh_mass_fraction``, ``slosh_mass_height``, the coupling's
+``frequency_hz``, ``zeta`` (the lowest mode; every fitted mode's in ``mode_*`` lists: a folded
+diaphragm splits the lateral pair), ``slosh_mass_fraction``, ``slosh_mass_height``, the coupling's
 iterations and unconverged windows and ``seconds_per_period``; the ratio of each lambda1 to
 the limp surface's at the same tank fraction. Writes ``benchmarks/output/slosh_diaphragm.png``
 (lambda1 and zeta by case).
@@ -30,6 +31,7 @@ FIGURE = OUTPUT / "slosh_diaphragm.png"
 KEYS = ("lambda1", "frequency_hz", "zeta", "zeta_std", "slosh_mass_fraction",
         "slosh_mass_height", "tank_fraction", "mean_coupling_iterations",
         "windows_not_converged", "wall_seconds", "seconds_per_period")
+MODE_KEYS = ("mode_frequency_hz", "mode_zeta", "mode_direction_deg", "mode_slosh_mass")
 
 #: case -> [(section, key, value from the base scene's value)]: each changes one thing
 CASES = {
@@ -68,6 +70,9 @@ def run(case: str, cells: int, grid_size: int, end_time: float, surface: str) ->
                                           ["membrane_elastic_energy"][0])
                if surface == "diaphragm" else None)
     out.update({k: result.attrs.get(k) for k in KEYS})
+    for key in MODE_KEYS:  # every fitted lateral mode, ascending frequency
+        if key in result.attrs:
+            out[key] = [float(x) for x in result.attrs[key]]
     for key in ("analysis_failure", "failure"):
         if result.attrs.get(key):
             out[key] = result.attrs[key]

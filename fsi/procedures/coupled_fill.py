@@ -88,12 +88,16 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
                               float(FillScale.mirrored(setup.model).volume(fill)))
 
 
-def static_equilibrium(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
+def static_equilibrium(setup, model: XpbdModel, settings: XpbdSettings, volume: float,
+                       state=None):
     """The membrane's static equilibrium holding the liquid ``volume`` (m^3) under the
-    hydrostatic liquid, by damped XPBD at the substep of ``settings``: (state,
-    Equilibrium); a start that did not converge is logged."""
-    start, info = solve_equilibrium(model, MembraneState(setup.model.node_rest_position),
-                                    hydrostatic_load(setup.liquid, volume), settings)
+    hydrostatic liquid, by damped XPBD at the substep of ``settings`` from ``state`` (the
+    manufactured shape when None): (state, Equilibrium); a start that did not converge is
+    logged."""
+    if state is None:
+        state = MembraneState(setup.model.node_rest_position)
+    start, info = solve_equilibrium(model, state, hydrostatic_load(setup.liquid, volume),
+                                    settings)
     if not info.converged:
         log.warning("static start at liquid volume %.4g m^3 not converged after %d substeps "
                     "(move ratio %.2e): the run starts from a membrane in motion", volume,
