@@ -84,8 +84,8 @@ grid: about 1 % stiffness bias (README); the statics' substep and the dynamics' 
 XPBD_DYNAMIC_SWEEPS = 64
 """Gauss-Seidel sweeps of the XPBD constraints per substep of a slosh run's diaphragm, its
 start included: fewer leave the constraints unconverged, the membrane soft and its folds
-elsewhere (first mode at half fill, N = 14, 16^3: 4.28 / 6.78 / 7.73 / 7.031 / 7.032 Hz
-with 1 / 16 / 32 / 64 / 128 sweeps; README, 'Slosh with the diaphragm')."""
+elsewhere (half fill, N = 14, 16^3, single damped cosine fitted to x: 4.28 / 6.78 / 7.73 /
+7.031 / 7.032 Hz with 1 / 16 / 32 / 64 / 128 sweeps; README, 'Slosh with the diaphragm')."""
 
 
 def _xpbd_dt(setup) -> float:
