@@ -160,17 +160,7 @@ def fit_free_decay(time, signal, start: float | None = None,
     [start, stop], non-uniform sampling, or when no oscillating pole is found.
     """
     t_all = checked_time("time", time)
-    y_all = _series("signal", signal, t_all.size)
-    lo = t_all[0] if start is None else checked_scalar("start", start)
-    hi = t_all[-1] if stop is None else checked_scalar("stop", stop)
-    if hi <= lo:
-        raise ValueError(f"stop: must be greater than start ({hi!r} <= {lo!r})")
-    keep = (t_all >= lo) & (t_all <= hi)
-    if np.count_nonzero(keep) < MIN_SAMPLES:
-        raise ValueError(f"time: {np.count_nonzero(keep)} samples in [start, stop], need at "
-                         f"least {MIN_SAMPLES}")
-    t, y = t_all[keep], y_all[keep]
-    dt = uniform_step("time", t)
+    t, y, dt = record_window(t_all, _series("signal", signal, t_all.size), start, stop)
     guess = _pencil_guess(y, dt)
     _check_periods(guess[2], guess[1], t[-1] - t[0])
     params, std, residual = _refine(t - t[0], y, guess)
@@ -184,6 +174,22 @@ def fit_free_decay(time, signal, start: float | None = None,
         zeta_std=float(std[1]), amplitude_std=float(std[0]), phase_std=float(std[3]),
         offset_std=float(std[4]), rms_residual=float(np.sqrt(np.mean(residual**2))),
         samples=int(t.size))
+
+
+def record_window(t_all: np.ndarray, y_all: np.ndarray, start, stop):
+    """(t, y, dt): the samples of ``t_all`` (n,) s and ``y_all`` (n, ...) with
+    start <= t <= stop (s; None for the record's ends), and their uniform step (s);
+    ValueError naming what is wrong."""
+    lo = t_all[0] if start is None else checked_scalar("start", start)
+    hi = t_all[-1] if stop is None else checked_scalar("stop", stop)
+    if hi <= lo:
+        raise ValueError(f"stop: must be greater than start ({hi!r} <= {lo!r})")
+    keep = (t_all >= lo) & (t_all <= hi)
+    if np.count_nonzero(keep) < MIN_SAMPLES:
+        raise ValueError(f"time: {np.count_nonzero(keep)} samples in [start, stop], need at "
+                         f"least {MIN_SAMPLES}")
+    t = t_all[keep]
+    return t, y_all[keep], uniform_step("time", t)
 
 
 def _check_periods(omega: float, zeta: float, duration: float) -> None:

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from .slosh_analysis import (MIN_PERIODS, MIN_SAMPLES, ZETA_BOUNDS, block_size,
-                             checked_scalar, checked_time, pencil_poles, uniform_step)
+from .slosh_analysis import (MIN_PERIODS, ZETA_BOUNDS, block_size, checked_time,
+                             pencil_poles, record_window)
 
 MODE_MIN_FRACTION = 0.2
 """A pole is a mode when its amplitude (over the channels) is at least this fraction of the
@@ -76,21 +76,15 @@ def fit_modes(time, signals, start: float | None = None, stop: float | None = No
     uniformly spaced over [start, stop] (s, default the record's ends).
 
     Raises ValueError with fewer than MIN_SAMPLES samples or MIN_PERIODS periods of the
-    lowest mode in [start, stop], non-uniform sampling, or no oscillating pole."""
+    lowest mode in [start, stop] (stop after start), non-uniform sampling, or no oscillating
+    pole."""
     t_all = checked_time("time", time)
     y_all = np.asarray(signals, dtype=float)
     y_all = y_all[:, None] if y_all.ndim == 1 else y_all
     if y_all.ndim != 2 or y_all.shape[0] != t_all.size or not np.all(np.isfinite(y_all)):
         raise ValueError(f"signals: must be finite, (n,) or (n, k) with n = {t_all.size} "
                          f"samples, got shape {np.shape(signals)}")
-    lo = t_all[0] if start is None else checked_scalar("start", start)
-    hi = t_all[-1] if stop is None else checked_scalar("stop", stop)
-    keep = (t_all >= lo) & (t_all <= hi)
-    if np.count_nonzero(keep) < MIN_SAMPLES:
-        raise ValueError(f"time: {np.count_nonzero(keep)} samples in [start, stop], need at "
-                         f"least {MIN_SAMPLES}")
-    t, y = t_all[keep], y_all[keep]
-    dt = uniform_step("time", t)
+    t, y, dt = record_window(t_all, y_all, start, stop)
     tau = t - t[0]
     poles = _mode_poles(y, dt)
     params, std, residual = _refine(tau, y, poles)
