@@ -88,7 +88,8 @@ elsewhere (half fill, N = 14, 16^3, single damped cosine fitted to x: 4.28 / 6.7
 7.031 / 7.032 Hz with 1 / 16 / 32 / 64 / 128 sweeps; README, 'Slosh with the diaphragm')."""
 
 
-def _xpbd_dt(setup) -> float:
+def statics_substep(setup) -> float:
+    """The XPBD substep (s) of the statics: XPBD_COURANT_FRACTION of the explicit limit."""
     return XPBD_COURANT_FRACTION * courant_time_step_limit(setup.model, setup.liquid,
                                                            setup.model.radius)
 
@@ -102,7 +103,7 @@ def _xpbd_relax(model: XpbdModel, setup, state, load: Load,
                 settings: XpbdSettings = XPBD_RELAX):
     """Damped XPBD to the load's volume target; the substep is halved (up to three times) when
     a substep moves a node by more than its length."""
-    dt = _xpbd_dt(setup)
+    dt = statics_substep(setup)
     for attempt in range(4):
         try:
             return xpbd_solve(model, state, load, replace(settings, dt=dt))
@@ -118,7 +119,7 @@ def _xpbd_solve(model: XpbdModel, setup, state, load: Load):
     try:
         polished, pinfo = xpbd_solve(model, relaxed,
                                      replace(load, pressure_level=info.pressure_level),
-                                     replace(XPBD_POLISH, dt=_xpbd_dt(setup)))
+                                     replace(XPBD_POLISH, dt=statics_substep(setup)))
     except XpbdDivergence as err:
         log.warning("xpbd: the quasi-static polish diverged (%s); returning the damped "
                     "relaxation, whose in-plane stiffness depends on dt", err)

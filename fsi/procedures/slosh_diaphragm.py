@@ -40,8 +40,8 @@ from structure.hyperelastic import svk_energy_and_gradient
 from structure.volume import liquid_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
 
-from ..models import _xpbd_dt
 from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
+from ..models import statics_substep
 from .coupled import coupling_settings, window_substep
 from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
 from .slosh import Contents, _tank_volume, register_surface
@@ -95,7 +95,7 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     volume = table["fill"] * _tank_volume(radius)
     # the fold state from a path that does not depend on the window: relaxed at the statics'
     # substep, then settled at the windows' (same sweeps) so that it is at rest under them
-    state, _ = static_equilibrium(setup, xpbd, replace(settings, dt=_xpbd_dt(setup)), volume)
+    state, _ = static_equilibrium(setup, xpbd, replace(settings, dt=statics_substep(setup)), volume)
     state, info = static_equilibrium(setup, xpbd, settings, volume, state)
     run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
                     f"{info.pressure_level:.1f} Pa")
