@@ -71,7 +71,10 @@ class FluidModel:
     liquid's velocity at it is the answer, :mod:`fluid.free_surface`);
     assembly: who builds the linear systems, a name in :data:`fluid.systems.ASSEMBLIES`
     ('direct': laid out once, refilled each step; 'fipy': FiPy's terms, rebuilt each step;
-    the two give the same matrices, see :mod:`fluid.assembly`).
+    the two give the same matrices, see :mod:`fluid.assembly`);
+    time_scheme: the moving-wall step's time derivative, a name in
+    :data:`fluid.time_schemes.TIME_SCHEMES` ('euler': backward Euler; 'bdf2': second-order
+    backward differences; the free surface's step has its own, :mod:`fluid.free_surface`).
     """
 
     grid: TankGrid
@@ -86,6 +89,7 @@ class FluidModel:
     pressure_tolerance: float = 1e-10
     assembly: str = "direct"
     interface_condition: str = "wall"
+    time_scheme: str = "euler"
 
     def __post_init__(self):
         if not self.density > 0:
@@ -123,10 +127,13 @@ class FluidModel:
 class FluidState:
     """time s; cell_velocity (n_cells, dim) m/s (r, z or x, y, z components);
     face_velocity (n_faces,) m/s along FiPy's face normal; pressure (n_cells,) reduced
-    pressure p_red (Pa, see module doc); geometry: the liquid region at ``time``."""
+    pressure p_red (Pa, see module doc); geometry: the liquid region at ``time``;
+    previous: the state one step earlier (its own ``previous`` dropped), which multistep
+    time schemes read (:mod:`fluid.time_schemes`); None at the start."""
 
     time: float
     cell_velocity: np.ndarray
     face_velocity: np.ndarray
     pressure: np.ndarray
     geometry: Geometry
+    previous: "FluidState | None" = None

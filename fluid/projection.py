@@ -23,7 +23,7 @@ with Rhie-Chow face velocities on FiPy's collocated grid):
 from __future__ import annotations
 
 import time as _time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -36,6 +36,7 @@ from .geometry import Geometry
 from .linear import make_solver, pressure_solver_for, single_blas_thread, warn_if_unconverged
 from .model import FluidModel, FluidState
 from .systems import ASSEMBLIES, MomentumInputs, PressureInputs
+from .time_schemes import TIME_SCHEMES
 
 #: smallest wall distance fraction used by the immersed viscous condition
 THETA_MIN = 0.05
@@ -89,6 +90,13 @@ class ProjectionOperators:
         if model.interface_condition not in STEPPERS:
             raise ValueError(f"unknown interface condition {model.interface_condition!r}; "
                              f"allowed: {sorted(STEPPERS)}")
+        if model.time_scheme not in TIME_SCHEMES:
+            raise ValueError(f"unknown time scheme {model.time_scheme!r}; allowed: "
+                             f"{sorted(TIME_SCHEMES)}")
+        if model.interface_condition != "wall" and model.time_scheme != "euler":
+            raise ValueError(f"time scheme {model.time_scheme!r} is the moving wall's; the "
+                             f"{model.interface_condition!r} interface's step has its own "
+                             f"(use 'euler')")
         if model.assembly not in ASSEMBLIES:
             raise ValueError(f"unknown assembly {model.assembly!r}; allowed: "
                              f"{sorted(ASSEMBLIES)}")
@@ -313,39 +321,45 @@ def _port_level(model, ops, geometry, time):
 
 @register_stepper("wall", _port_level)
 def _step(model, ops, state, geometry, dt):
+    """The step of the module doc, its time derivatives by the model's time scheme
+    (:mod:`fluid.time_schemes`: the old velocities and cell fractions and the step dt_eff
+    that every part below sees; the port values and the new time are the real step's)."""
     tic = _time.perf_counter()
     g = model.grid
     rho = model.density
     t1 = state.time + dt
     beta = geometry.face_fraction
     fluid = geometry.fluid_centre
-    wall, p_bc_old, grad_f_old, weights, grad_c_old, u_flow = _known(model, ops, state,
+    old = TIME_SCHEMES[model.time_scheme](state, dt)
+    start, h = old.state, old.dt
+    wall, p_bc_old, grad_f_old, weights, grad_c_old, u_flow = _known(model, ops, start,
                                                                      geometry, dt)
     p_bc_new = port_values(model, ops, t1)
     u_star, momentum_iterations = _momentum_predictor(
         ops, geometry, wall,
-        momentum_inputs(model, ops, state, geometry, wall, grad_c_old, u_flow, dt))
+        momentum_inputs(model, ops, start, geometry, wall, grad_c_old, u_flow, h))
     toc_momentum = _time.perf_counter() - tic
 
     tic = _time.perf_counter()
-    u_face = _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old,
-                             grad_f_old, u_flow, dt)
+    u_face = _face_predictor(model, ops, start, geometry, wall, u_star, grad_c_old,
+                             grad_f_old, u_flow, h)
     dp, dvol, coupled, mismatch, info = _pressure_correction(
-        model, ops, state, geometry, u_face, p_bc_new - p_bc_old, dt)
+        model, ops, start, geometry, u_face, p_bc_new - p_bc_old, h)
 
     dp_bc = np.where(ops.pressure_faces, p_bc_new - p_bc_old, np.nan)
     grad_f = face_gradient(model, dp, dp_bc)
-    u_face_new = u_face - dt / rho * grad_f
+    u_face_new = u_face - h / rho * grad_f
     u_face_new[ops.flow_faces] = u_flow[ops.flow_faces]
     u_face_new[beta == 0] = 0.0
-    u_cell = u_star - dt / rho * cell_gradient(model, grad_f, weights)
+    u_cell = u_star - h / rho * cell_gradient(model, grad_f, weights)
     u_cell[~fluid] = wall[~fluid]
-    residual = net_outflow(model, beta * g.face_area * u_face_new) + dvol / dt
+    residual = net_outflow(model, beta * g.face_area * u_face_new) + dvol / h
     divergence = float(np.max(np.abs(residual[coupled]) / g.cell_volume[coupled])) \
         if coupled.any() else 0.0
     pressure = _extend_pressure(model, state.pressure + dp, coupled, p_bc_new, weights)
     new = FluidState(time=t1, cell_velocity=u_cell, face_velocity=u_face_new,
-                     pressure=pressure, geometry=geometry)
+                     pressure=pressure, geometry=geometry,
+                     previous=replace(state, previous=None))
     toc_pressure = _time.perf_counter() - tic
     return new, StepReport(mismatch, divergence, toc_momentum, toc_pressure,
                            momentum_iterations, info.iterations, info.residual)

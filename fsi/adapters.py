@@ -18,7 +18,7 @@ from fluid.interface import Interface, is_closed
 from fluid.solver import FluidSolver
 from structure.load import Load
 from structure.model import MembraneState
-from structure.xpbd import XpbdModel, XpbdSettings, step
+from structure.xpbd import WINDOW_SCHEMES, XpbdModel, XpbdSettings
 
 POINTS = "interface_points"
 VELOCITIES = "interface_velocities"
@@ -138,20 +138,28 @@ class MembraneParticipant:
     the liquid volume (m^3) the ports have delivered by time t (s); each window moves the
     liquid volume from its value at the window's start to ``volume(t + dt)``, and the uniform
     pressure level (Pa) that holds it is :attr:`level` afterwards. ``body_acceleration``:
-    (3,) m/s^2 or a function of time returning it (tank frame).
+    (3,) m/s^2 or a function of time returning it (tank frame). ``scheme``: the window's
+    time scheme, a name in :data:`structure.xpbd.WINDOW_SCHEMES` ('substeps' or 'bdf2', which
+    reads the state one window back: kept here and in the checkpoints).
     """
 
     name = "structure"
     write_fields = (POINTS, VELOCITIES)
 
     def __init__(self, model: XpbdModel, state: MembraneState, settings: XpbdSettings,
-                 volume: Callable[[float], float], body_acceleration, level: float = 0.0):
+                 volume: Callable[[float], float], body_acceleration, level: float = 0.0,
+                 scheme: str = "substeps"):
+        if scheme not in WINDOW_SCHEMES:
+            raise ValueError(f"unknown membrane window scheme {scheme!r}; allowed: "
+                             f"{sorted(WINDOW_SCHEMES)}")
         self.model = model
         self.state = state.copy()
         self.settings = settings
         self.volume = volume
         self.body_acceleration = body_acceleration
         self.level = float(level)
+        self.scheme = scheme
+        self.history: tuple[MembraneState, float] | None = None
 
     def _body(self, time: float) -> np.ndarray:
         b = self.body_acceleration
@@ -167,13 +175,16 @@ class MembraneParticipant:
     def solve_window(self, time: float, dt: float, data_in) -> dict:
         load = Load(np.asarray(data_in[PRESSURE], dtype=float), self._body(time + dt),
                     volume_target=float(self.volume(time + dt)))
-        self.state, info = step(self.model, self.state, load, dt, self.settings)
+        start = self.state
+        self.state, info = WINDOW_SCHEMES[self.scheme](self.model, start, load, dt,
+                                                       self.settings, self.history)
+        self.history = (start, dt)
         self.level = info.pressure_level
         return self._fields()
 
     def store_checkpoint(self):
-        return self.state.copy(), self.level
+        return self.state.copy(), self.level, self.history
 
     def restore_checkpoint(self, checkpoint) -> None:
-        state, self.level = checkpoint
+        state, self.level, self.history = checkpoint
         self.state = state.copy()

@@ -85,6 +85,10 @@ PORT = Table({
 })
 """[port]: the bottom port and its stub."""
 
+WINDOW_TIME_SCHEMES = {"euler": ("euler", "substeps"), "bdf2": ("bdf2", "bdf2")}
+"""``coupling.time_scheme`` -> (the liquid's :data:`fluid.time_schemes.TIME_SCHEMES` name, the
+membrane's :data:`structure.xpbd.WINDOW_SCHEMES` name): the two halves of one time scheme."""
+
 FLUID = Table({
     "cells": Key(int, 16, lambda v: 8 <= v <= 128, "8..128",
                  "cells per axis of the 3-D grid over the tank"),
@@ -96,6 +100,12 @@ FLUID = Table({
 COUPLING = Table({
     "scheme": Key(str, "implicit-serial", *one_of(sorted(SCHEMES)),
                   "coupling scheme (membrane first, liquid second)"),
+    "time_scheme": Key(str, "euler", *one_of(sorted(WINDOW_TIME_SCHEMES)),
+                       "time integration of a window: euler (liquid backward Euler, membrane "
+                       "substeps under the window's end pressure: first order, damps a mode "
+                       "at about omega dt / 2) or bdf2 (liquid and membrane one BDF2 step, "
+                       "every force at the window's end: second order; README, 'Slosh with "
+                       "the diaphragm')"),
     "acceleration": Key(str, "iqn-ils", *one_of(sorted(ACCELERATIONS)),
                         "acceleration of the interface pressure"),
     "relaxation": Key(float, 0.01, lambda v: 0 < v <= 1, "0 < value <= 1",

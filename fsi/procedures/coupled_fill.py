@@ -41,7 +41,8 @@ from ..lifecycle import Progress, Run, RunResult, membrane_frame
 from ..models import hydrostatic_load
 from ..motion import body_acceleration
 from ..registry import Procedure, register_procedure
-from .coupled import COUPLED_TABLES, check_port, coupling_settings, window_substep
+from .coupled import (COUPLED_TABLES, WINDOW_TIME_SCHEMES, check_port, coupling_settings,
+                      window_substep)
 
 log = logging.getLogger(__name__)
 
@@ -117,14 +118,16 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     grid = tank_grid(setup.model.radius, fl["cells"], axisymmetric=False,
                      stub_length=port["length"])
     surface = MembraneSurface(model)
+    liquid_scheme, membrane_scheme = WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]]
     fluid = FluidSolver(sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)],
                                      body, density=liquid.density, viscosity=fl["viscosity"],
-                                     port_radius_cells=port["radius"] / grid.spacing),
+                                     port_radius_cells=port["radius"] / grid.spacing,
+                                     time_scheme=liquid_scheme),
                         surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)
     membrane = MembraneParticipant(model, start, settings,
                                    lambda t: start_volume + flow.delivered(t), body,
-                                   info.pressure_level)
+                                   info.pressure_level, membrane_scheme)
     return Coupled(FillScale.mirrored(setup.model), flow, info, start_volume, fluid,
                    membrane, FluidParticipant(fluid, surface=surface))
 

@@ -42,7 +42,7 @@ from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
 
 from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
 from ..models import statics_substep
-from .coupled import coupling_settings, window_substep
+from .coupled import WINDOW_TIME_SCHEMES, coupling_settings, window_substep
 from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
 from .slosh import Contents, _tank_volume, register_surface
 
@@ -99,15 +99,16 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     state, info = static_equilibrium(setup, xpbd, settings, volume, state)
     run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
                     f"{info.pressure_level:.1f} Pa")
+    liquid_scheme, membrane_scheme = WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]]
     grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
     model = FluidModel(grid=grid, container=SphericalTank(radius),
                        density=setup.liquid.density, viscosity=scene["fluid"]["viscosity"],
-                       body_acceleration=body)
+                       body_acceleration=body, time_scheme=liquid_scheme)
     surface = MembraneSurface(xpbd)
     fluid = FluidSolver(model, surface.of(state))
     held = liquid_volume(setup.model, state.node_position)
     membrane = MembraneParticipant(xpbd, state, settings, lambda t: held, body,
-                                   info.pressure_level)
+                                   info.pressure_level, membrane_scheme)
     node_mass = setup.model.node_mass
     liquid_mass = setup.liquid.density * fluid.liquid_volume
     mass = liquid_mass + float(node_mass.sum())

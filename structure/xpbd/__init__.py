@@ -37,15 +37,17 @@ kinetic-energy peak), robust but biased as above.
 Dynamics.  :func:`step` advances one time window of a coupled run: plain substeps with the
 liquid-side pressure of the window held on the nodes and the liquid volume prescribed, the
 membrane's own inertia kept (its stiffness bias ~ dt^2, as measured above, sets the substep).
+:func:`bdf2_step` takes the window as one implicit BDF2 step from the state one window back,
+every force at the window's end, the partner of a liquid collocated there (second order).
 
 Layout: :mod:`.model` (fixed data, settings, state, multipliers), :mod:`.kernels` (numba
 constraint sweeps), :mod:`.substep` (one substep), :mod:`.statics`
 (:func:`solve_equilibrium`), :mod:`.dynamics` (:func:`step`).
 """
-from .dynamics import step
+from .dynamics import WINDOW_SCHEMES, bdf2_step, step
 from .model import (XpbdDivergence, XpbdModel, XpbdMultipliers, XpbdSettings, XpbdState,
                     node_external_force)
 from .statics import solve_equilibrium
 
 __all__ = ["XpbdDivergence", "XpbdModel", "XpbdMultipliers", "XpbdSettings", "XpbdState",
-           "node_external_force", "solve_equilibrium", "step"]
+           "node_external_force", "solve_equilibrium", "step", "bdf2_step", "WINDOW_SCHEMES"]

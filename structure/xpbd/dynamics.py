@@ -1,5 +1,7 @@
-"""Dynamic XPBD: one time window of a coupled run in plain substeps, the membrane's inertia
-kept (its stiffness bias ~ dt^2 sets the substep, :mod:`structure.xpbd`)."""
+"""Dynamic XPBD: one time window of a coupled run, the membrane's inertia kept. Two window
+schemes (:data:`WINDOW_SCHEMES`): ``substeps`` (:func:`step`: plain substeps, the stiffness
+bias ~ dt^2 of unconverged sweeps sets the substep, :mod:`structure.xpbd`) and ``bdf2``
+(:func:`bdf2_step`: the window as one implicit BDF2 step, its sweeps converged)."""
 from __future__ import annotations
 
 import numpy as np
@@ -10,6 +12,18 @@ from ..volume import liquid_volume
 from .model import XpbdDivergence, XpbdModel, XpbdMultipliers, XpbdSettings, XpbdState, \
     node_external_force
 from .substep import substep
+
+
+def _checked_pressure(load: Load, x: np.ndarray) -> np.ndarray:
+    """The load's node pressure (n,) Pa at positions x (n, 3) m, checked."""
+    node_pressure = np.asarray(load.pressure(x), dtype=float)
+    if node_pressure.shape != (len(x),):
+        raise ValueError(f"node_pressure must have shape ({len(x)},) (Pa), got "
+                         f"{node_pressure.shape}")
+    if not np.all(np.isfinite(node_pressure)):
+        raise ValueError(f"node_pressure has {int(np.sum(~np.isfinite(node_pressure)))} "
+                         f"non-finite values (Pa)")
+    return node_pressure
 
 
 def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
@@ -36,13 +50,7 @@ def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
                      bending=settings.bending, kinetic_damping=False)
     x = np.array(state.node_position, dtype=float)
     v = np.array(state.node_velocity, dtype=float)
-    node_pressure = np.asarray(load.pressure(x), dtype=float)
-    if node_pressure.shape != (len(x),):
-        raise ValueError(f"node_pressure must have shape ({len(x)},) (Pa), got "
-                         f"{node_pressure.shape}")
-    if not np.all(np.isfinite(node_pressure)):
-        raise ValueError(f"node_pressure has {int(np.sum(~np.isfinite(node_pressure)))} "
-                         f"non-finite values (Pa)")
+    node_pressure = _checked_pressure(load, x)
     volume = None
     if load.volume_target is not None:
         volume = (liquid_volume(model.base, x), float(load.volume_target))
@@ -60,3 +68,68 @@ def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
                                  f"(substep {s.dt:g} s)")
     level = lam.volume[0] / s.dt**2 if volume is not None else load.pressure_level
     return XpbdState(x, v, multipliers=None), StepInfo(n_sub, float(level))
+
+
+def bdf2_weights(dt: float, dt_previous: float) -> tuple[float, float, float]:
+    """(a0, a1, a2) of the variable-step BDF2 derivative y'(t^{n+1}) ~ (a0 y^{n+1} + a1 y^n
+    + a2 y^{n-1}) / dt, r = dt / dt_previous (the liquid's time scheme uses the same,
+    :mod:`fluid.time_schemes`)."""
+    if not (dt > 0 and dt_previous > 0):
+        raise ValueError(f"bdf2 steps must be > 0 s, got {dt!r} after {dt_previous!r}")
+    r = dt / dt_previous
+    return (1 + 2 * r) / (1 + r), -(1 + r), r * r / (1 + r)
+
+
+def bdf2_step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
+              settings: XpbdSettings, history: tuple[MembraneState, float] | None = None
+              ) -> tuple[XpbdState, StepInfo]:
+    """The window of ``dt`` (s) as one implicit step, every force at the window's end.
+
+    BDF2 for x' = v and M v' = f(x) from the state one window back, ``history`` =
+    (state at t^{n-1}, its window dt_prev in s), written as backward Euler from a blended
+    start (a0, a1, a2 of :func:`bdf2_weights`): x~ = -(a1 x^n + a2 x^{n-1}) / a0, the same
+    for v~, step h = dt / a0; then x^{n+1} = x~ + h v^{n+1} with M (v^{n+1} - v~) / h =
+    f(x^{n+1}), which is one XPBD substep of h from (x~, v~) whose sweeps are converged
+    (``settings.iterations``; no history: backward Euler, h = dt). The load's pressure acts
+    on the node area vectors at x~. With ``load.volume_target`` the step ends on it and the
+    level is the volume multiplier over h^2 (Pa).
+
+    Why: a coupled liquid step collocated at the window's end (:mod:`fluid.time_schemes`)
+    hands the membrane its end pressure. Plain substeps (:func:`step`) integrate the
+    membrane's inertia through the window under that pressure held from the window's start,
+    so the light membrane feels the liquid's force early; with a BDF2 liquid the coupled
+    slosh mode then grows (zeta -0.009 at 2 ms, half-full diaphragm, N = 10). Every force
+    at the end of one step keeps the pair one BDF2 scheme."""
+    if not dt > 0:
+        raise ValueError(f"xpbd window duration must be > 0 s, got {dt!r}")
+    x = np.array(state.node_position, dtype=float)
+    v = np.array(state.node_velocity, dtype=float)
+    a0 = 1.0
+    if history is not None:
+        previous, dt_previous = history
+        a0, a1, a2 = bdf2_weights(dt, dt_previous)
+        x = -(a1 * x + a2 * previous.node_position) / a0
+        v = -(a1 * v + a2 * previous.node_velocity) / a0
+    h = dt / a0
+    s = XpbdSettings(dt=h, iterations=settings.iterations, warm_start=False,
+                     bending=settings.bending, kinetic_damping=False)
+    node_pressure = _checked_pressure(load, state.node_position)
+    if load.volume_target is None:
+        node_pressure = node_pressure + load.pressure_level
+    force = node_external_force(model, x, node_pressure, load.body_acceleration)
+    lam = XpbdMultipliers.zeros(len(model.triangles))
+    target = None if load.volume_target is None else float(load.volume_target)
+    substep(model, x, v, force, lam, s, target, 1)
+    if not np.all(np.isfinite(x)):
+        raise XpbdDivergence(f"xpbd bdf2 window: non-finite positions (step {h:g} s)")
+    level = lam.volume[0] / h**2 if target is not None else load.pressure_level
+    return XpbdState(x, v, multipliers=None), StepInfo(1, float(level))
+
+
+def _substeps(model, state, load, dt, settings, history=None):
+    return step(model, state, load, dt, settings)
+
+
+WINDOW_SCHEMES = {"substeps": _substeps, "bdf2": bdf2_step}
+"""name -> ``f(model, state, load, dt, settings, history)`` -> (state, StepInfo); ``history``
+is (the state one window back, that window's dt in s) or None."""
