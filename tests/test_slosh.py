@@ -165,14 +165,18 @@ amplitude = [0.5, 0.0, 0.0]
 duration = 0.1
 [fluid]
 cells = 12
+viscosity = {viscosity}
 [coupling]
 max_iterations = 30
 on_max_iterations = "accept"
+time_scheme = "{scheme}"
 """
 
 
-def _diaphragm(youngs=8.6e6, kind="impulse", end=1.0, start=0.15):
-    scene = parse_scene(DIAPHRAGM.format(youngs=youngs, kind=kind, end=end, start=start))
+def _diaphragm(youngs=8.6e6, kind="impulse", end=1.0, start=0.15, viscosity=1e-3,
+               scheme="euler"):
+    scene = parse_scene(DIAPHRAGM.format(youngs=youngs, kind=kind, end=end, start=start,
+                                         viscosity=viscosity, scheme=scheme))
     return PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
 
 
@@ -245,3 +249,34 @@ def test_viscous_loss_is_the_recorded_dissipation():
         spent = np.mean(w["dissipated_energy"][last]) - np.mean(w["dissipated_energy"][first])
     assert runs[0].attrs["zeta"] < 0.0004
     assert (lost[1] - lost[0]) / spent == pytest.approx(1.0, abs=0.05)
+
+
+def _slosh_energy(result) -> np.ndarray:
+    """Liquid and membrane kinetic, membrane elastic and gravitational energy against the
+    start (J), per window."""
+    w = result.groups["windows"]
+    total = w["liquid_kinetic_energy"] + w["membrane_kinetic_energy"] + \
+        w["membrane_elastic_energy"] + w["potential_energy"]
+    return total - total[0]
+
+
+@pytest.mark.slow
+def test_bdf2_window_keeps_the_diaphragms_slosh_energy():
+    """Inviscid free decay of the N = 10 diaphragm (12^3, 2 ms, 1 s, about 2 min): with
+    backward Euler windows the scheme damps both lateral modes (about omega dt / 2) and the energy the pulse put in is gone by 1 s; with BDF2
+    windows (liquid and membrane, coupling.time_scheme) the energy after the pulse is kept
+    within 15 % and each mode's |zeta| is under 0.01 (measured with this scene's 16 sweeps:
+    Euler zeta 0.044 and 0.047, BDF2 0.0013 and 0.0020, energy -4.8 % from the first tenth
+    of a second after the pulse to the last; README, "Slosh with the diaphragm")."""
+    runs = {s: _diaphragm(viscosity=0.0, scheme=s) for s in ("euler", "bdf2")}
+    t = runs["bdf2"].groups["windows"]["time"]
+    first, last = (t >= 0.15) & (t < 0.25), t >= 0.9
+    for scheme, r in runs.items():
+        assert not r.attrs.get("analysis_failure"), scheme
+    euler, bdf2 = (_slosh_energy(runs[s]) for s in ("euler", "bdf2"))
+    print({s: (r.attrs["mode_frequency_hz"], r.attrs["mode_zeta"]) for s, r in runs.items()},
+          np.mean(bdf2[last]) / np.mean(bdf2[first]) - 1)
+    assert np.mean(euler[last]) < 0.1 * np.mean(euler[first])
+    assert np.mean(bdf2[last]) == pytest.approx(np.mean(bdf2[first]), rel=0.15)
+    assert min(runs["euler"].attrs["mode_zeta"]) > 0.02
+    assert max(abs(z) for z in runs["bdf2"].attrs["mode_zeta"]) < 0.01
