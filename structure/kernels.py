@@ -306,6 +306,39 @@ def closed_volume_gradient(pos, faces, sign):
 
 
 @njit(**JIT)
+def first_moment(pos, faces, sign):
+    """Membrane part of the liquid's first moment M1 (3,) m^4 and its gradient (n, 3, 3)
+    [node, coordinate of the node, component of M1], quads split as closed_volume_term."""
+    m1 = np.zeros(3)
+    grad = np.zeros((pos.shape[0], 3, 3))
+    for f in range(faces.shape[0]):
+        for t in range(2):
+            i0, i1, i2 = faces[f, 0], faces[f, 1 + t], faces[f, 2 + t]
+            ab = pos[i1] - pos[i0]
+            ac = pos[i2] - pos[i0]
+            area_vec = 0.5 * np.cross(ab, ac)
+            for k in range(3):
+                a, b, c = pos[i0, k], pos[i1, k], pos[i2, k]
+                q = a * a + b * b + c * c + a * b + b * c + c * a
+                m1[k] += sign * area_vec[k] * q / 12.0
+                # d q / d x_node[k]
+                grad[i0, k, k] += sign * area_vec[k] * (2 * a + b + c) / 12.0
+                grad[i1, k, k] += sign * area_vec[k] * (2 * b + a + c) / 12.0
+                grad[i2, k, k] += sign * area_vec[k] * (2 * c + a + b) / 12.0
+                # d area_vec[k] / d positions: area_vec = 0.5 (x1 - x0) x (x2 - x0)
+                k1, k2 = (k + 1) % 3, (k + 2) % 3
+                s = sign * q / 12.0 * 0.5
+                # area_vec[k] = 0.5 (ab[k1] ac[k2] - ab[k2] ac[k1])
+                grad[i1, k1, k] += s * ac[k2]
+                grad[i1, k2, k] -= s * ac[k1]
+                grad[i2, k2, k] += s * ab[k1]
+                grad[i2, k1, k] -= s * ab[k2]
+                grad[i0, k1, k] -= s * (ac[k2] - ab[k2])
+                grad[i0, k2, k] -= s * (ab[k1] - ac[k1])
+    return m1, grad
+
+
+@njit(**JIT)
 def project_volume_masked(pos, inv_mass, movable, faces, sign, volume_offset, target,
                           iterations, max_move):
     """Move the ``movable`` nodes along W grad V so that the liquid volume

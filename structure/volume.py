@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kernels import closed_volume_gradient, closed_volume_term
+from .kernels import closed_volume_gradient, closed_volume_term, first_moment
 from .model import MembraneModel
 
 
@@ -34,6 +34,15 @@ def liquid_volume(model: MembraneModel, node_position: np.ndarray) -> float:
 def liquid_volume_gradient(model: MembraneModel, node_position: np.ndarray) -> np.ndarray:
     """d V_liquid / d node_position, (n, 3) m^2."""
     return closed_volume_gradient(node_position, model.face_nodes, model.volume_sign)
+
+
+def liquid_first_moment(model: MembraneModel, node_position: np.ndarray) -> np.ndarray:
+    """First moment of the liquid below the membrane, the integral of x over it, (3,) m^4:
+    the membrane's triangles (divergence theorem, F = (x_k^2 / 2) e_k) plus the lower
+    hemisphere's (0, 0, -pi R^4 / 4). The liquid's centroid is this over its volume."""
+    m1, _ = first_moment(np.ascontiguousarray(node_position, dtype=float), model.face_nodes,
+                         model.volume_sign)
+    return m1 + np.array([0.0, 0.0, -0.25 * np.pi * model.radius**4])
 
 
 def mirrored_rest_position(model: MembraneModel) -> np.ndarray:

@@ -16,7 +16,10 @@
   moment about the tank centre that the contents put on the tank and their centre of mass.
 * Analysis (impulse or table excitation): the first mode's frequency, damping ratio and
   lambda1 = omega^2 R / g from the centre of mass's free decay after ``slosh.analysis_start``,
-  and the NASA SP-106 spring-mass equivalent from the force and moment.
+  and the NASA SP-106 spring-mass equivalent from the force and moment; the start's static
+  lateral compliance (:mod:`fsi.lateral_compliance`: the free surface's |z_c| / g, the
+  diaphragm's from two tilted static solves), the first-mode bound it sets and the fitted
+  modes' own sum m_n / (M omega_n^2) against it.
 """
 from __future__ import annotations
 
@@ -34,6 +37,8 @@ from fluid.solver import FluidSolver
 from fluid.tank import tank_grid, tank_spacing
 
 from ..limp import HeightSurface, advance_heights
+from ..lateral_compliance import (Compliance, first_mode_bound, free_surface_compliance,
+                                  modal_compliance)
 from ..lifecycle import Progress, Run, RunResult
 from ..models import XPBD_COURANT_FRACTION, XPBD_DYNAMIC_SWEEPS
 from ..motion import body_acceleration, tank_acceleration
@@ -51,11 +56,13 @@ SURFACES: dict[str, Callable] = {}
 @dataclass
 class Contents:
     """What the tank holds at the start: liquid volume (m^3), mass of the contents (kg,
-    liquid and membrane) and their centre of mass (3,) m."""
+    liquid and membrane), their centre of mass (3,) m and their static lateral compliance
+    (:class:`fsi.lateral_compliance.Compliance`, s^2)."""
 
     volume: float
     mass: float
     centre: np.ndarray
+    compliance: Compliance
 
 
 def register_surface(name: str):
@@ -170,7 +177,9 @@ def _limp(setup, start: Start, body, run: Run, window: float, n_windows: int):
         run.progress(k + 1, f"t = {t:.3f} s, surface x-moment "
                             f"{float(np.sum(node_area * heights.ravel() * surface.plan[:, 0])):.3e}"
                             " m^4")
-    contents = Contents(volume, setup.liquid.density * volume, start.centre)
+    compliance = Compliance(free_surface_compliance(float(start.centre[2]), gravity), 0.0,
+                            True)
+    contents = Contents(volume, setup.liquid.density * volume, start.centre, compliance)
     return samples, dict(node_plan=surface.plan, node_area=node_area), contents
 
 
@@ -265,7 +274,26 @@ def slosh(setup, progress: Progress) -> RunResult:
         if attrs.get("omega"):
             attrs["seconds_per_period"] = attrs["wall_seconds"] / (
                 time[-1] * attrs["omega"] / (2 * np.pi))
+    attrs.update(compliance_attrs(contents, attrs))
     return run.result({"windows": windows, "surface": surface_data}, **attrs)
+
+
+def compliance_attrs(contents: Contents, attrs: dict) -> dict:
+    """The start's static lateral compliance (:mod:`fsi.lateral_compliance`), the first-mode
+    bound it sets and, with fitted slosh masses, the modes' own sum_n m_n / (M omega_n^2)."""
+    c = contents.compliance
+    omega_bound = first_mode_bound(c.compliance)
+    out = dict(static_compliance=c.compliance, static_compliance_asymmetry=c.asymmetry,
+               static_compliance_converged=c.converged,
+               first_mode_bound_hz=omega_bound / (2 * np.pi))
+    if "mode_slosh_mass" in attrs:
+        out["modal_compliance"] = modal_compliance(
+            attrs["mode_slosh_mass"], 2 * np.pi * attrs["mode_frequency_hz"], contents.mass)
+    if attrs.get("omega", 0.0) > omega_bound:
+        log.warning("the fitted first mode (%.4g Hz) is above the static bound %.4g Hz: the "
+                    "response is not linear, or the fit is not the first mode",
+                    attrs["frequency_hz"], out["first_mode_bound_hz"])
+    return out
 
 
 def report(result) -> None:
@@ -281,6 +309,11 @@ def report(result) -> None:
               "(coupling.on_max_iterations)")
     print(f"  peak force on the tank F_x {a['peak_force_x']:.4g} N, peak moment M_y "
           f"{a['peak_moment_y']:.4g} N m")
+    print(f"  static lateral compliance C = d x_c / d b_x {a['static_compliance']:.4e} s^2 "
+          f"(first mode at most {a['first_mode_bound_hz']:.4g} Hz)"
+          + ("" if a["static_compliance_converged"] else ", a tilted solve not converged")
+          + (f"; the fitted modes' sum m_n / (M omega_n^2) {a['modal_compliance']:.4e} s^2"
+             if "modal_compliance" in a else ""))
     if "lambda1" not in a:
         if a.get("analysis_failure"):
             print(f"  first mode: not analysed ({a['analysis_failure']})")

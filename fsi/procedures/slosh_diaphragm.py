@@ -8,7 +8,9 @@ coupled in time.
   when relaxed at each window's substep, 3.1006 / 3.1009 / 3.1011 J this way, N = 10),
   then settled at the windows' substep and sweeps so that it is at rest under them;
   the port is shut, so the membrane holds that volume throughout and the multiplier of the
-  volume is the uniform pressure level (:mod:`fsi.adapters`).
+  volume is the uniform pressure level (:mod:`fsi.adapters`). Its static lateral
+  compliance comes from two more solves by the same XPBD settings, under b = (+-0.05, 0, -g)
+  m/s^2 (:func:`start_compliance`).
 * Structure: XPBD windows, substeps of ``slosh.substep_fraction`` of the explicit limit,
   ``slosh.constraint_sweeps`` Gauss-Seidel sweeps of the constraints per substep;
   the membrane feels the body acceleration g - a(t) of the moving tank.
@@ -38,10 +40,11 @@ from fluid.solver import FluidSolver
 from fluid.tank import tank_grid
 from structure.hyperelastic import svk_energy_and_gradient
 from structure.volume import liquid_volume
-from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
+from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
-from ..models import statics_substep
+from ..lateral_compliance import Compliance, contents_centre, static_compliance
+from ..models import hydrostatic_load, statics_substep
 from .coupled import WINDOW_TIME_SCHEMES, coupling_settings, window_substep
 from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
 from .slosh import Contents, _tank_volume, register_surface
@@ -99,6 +102,7 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     state, info = static_equilibrium(setup, xpbd, settings, volume, state)
     run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
                     f"{info.pressure_level:.1f} Pa")
+    compliance = start_compliance(setup, xpbd, settings, volume, state, info.pressure_level)
     liquid_scheme, membrane_scheme = WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]]
     grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
     model = FluidModel(grid=grid, container=SphericalTank(radius),
@@ -114,8 +118,26 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     mass = liquid_mass + float(node_mass.sum())
     c0 = liquid_centroid(model, fluid)
     centre = (liquid_mass * c0 + node_mass @ state.node_position) / mass
-    return _Parts(xpbd, model, fluid, surface, membrane, Contents(held, mass, centre),
-                  liquid_mass, c0)
+    return _Parts(xpbd, model, fluid, surface, membrane,
+                  Contents(held, mass, centre, compliance), liquid_mass, c0)
+
+
+def start_compliance(setup, xpbd: XpbdModel, settings: XpbdSettings, volume: float, state,
+                     level: float) -> Compliance:
+    """The static lateral compliance of the start (:mod:`fsi.lateral_compliance`): the
+    membrane's equilibria under b = (+-tilt, 0, -g) from ``state``, by the start's own
+    XPBD ``settings``, holding the liquid ``volume`` (m^3), the level (Pa) the guess."""
+    liquid = setup.liquid
+    g = np.asarray(liquid.body_acceleration, dtype=float)
+
+    def centre_at(b_x):
+        tilted = replace(liquid, body_acceleration=(b_x, g[1], g[2]))
+        out, info = solve_equilibrium(xpbd, state, hydrostatic_load(tilted, volume, level),
+                                      settings)
+        return (contents_centre(setup.model, out.node_position, liquid.density, volume),
+                info.converged)
+
+    return static_compliance(centre_at)
 
 
 def _sampler(setup, parts: _Parts, samples: list):
