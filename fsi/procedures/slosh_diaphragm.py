@@ -43,7 +43,8 @@ from structure.volume import liquid_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
-from ..lateral_compliance import Compliance, contents_centre, static_compliance
+from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
+                                  static_compliance)
 from ..models import hydrostatic_load, statics_substep
 from .coupled import WINDOW_TIME_SCHEMES, coupling_settings, window_substep
 from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
@@ -86,23 +87,44 @@ class _Parts:
     liquid_centre: np.ndarray
 
 
+@dataclass
+class StaticStart:
+    """The diaphragm's static start: the XPBD model and the windows' settings, the liquid
+    volume held (m^3), the membrane state and its :class:`structure.load.Equilibrium`."""
+
+    xpbd: XpbdModel
+    settings: XpbdSettings
+    volume: float
+    state: object
+    info: object
+
+
+def static_start(setup, window: float) -> StaticStart:
+    """The membrane's static equilibrium holding the tank fraction ``slosh.fill`` (module
+    doc), at rest under the XPBD substeps of ``window`` (s)."""
+    table = setup.scene["slosh"]
+    xpbd = XpbdModel.from_membrane(setup.model)
+    settings = XpbdSettings(dt=window_substep(setup, window, table["substep_fraction"]),
+                            iterations=table["constraint_sweeps"], warm_start=False,
+                            tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
+    volume = table["fill"] * _tank_volume(setup.model.radius)
+    # the fold state from a path that does not depend on the window: relaxed at the statics'
+    # substep, then settled at the windows' (same sweeps) so that it is at rest under them
+    state, _ = static_equilibrium(setup, xpbd, replace(settings, dt=statics_substep(setup)), volume)
+    state, info = static_equilibrium(setup, xpbd, settings, volume, state)
+    return StaticStart(xpbd, settings, volume, state, info)
+
+
 def _assemble(setup, body, run, window: float) -> _Parts:
     """The static start at the tank fraction ``slosh.fill`` and both participants."""
     scene = setup.scene
     table = scene["slosh"]
     radius = setup.model.radius
-    xpbd = XpbdModel.from_membrane(setup.model)
-    settings = XpbdSettings(dt=window_substep(setup, window, table["substep_fraction"]),
-                            iterations=table["constraint_sweeps"], warm_start=False,
-                            tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
-    volume = table["fill"] * _tank_volume(radius)
-    # the fold state from a path that does not depend on the window: relaxed at the statics'
-    # substep, then settled at the windows' (same sweeps) so that it is at rest under them
-    state, _ = static_equilibrium(setup, xpbd, replace(settings, dt=statics_substep(setup)), volume)
-    state, info = static_equilibrium(setup, xpbd, settings, volume, state)
+    start = static_start(setup, window)
+    xpbd, settings, state, info = start.xpbd, start.settings, start.state, start.info
     run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
                     f"{info.pressure_level:.1f} Pa")
-    compliance = start_compliance(setup, xpbd, settings, volume, state, info.pressure_level)
+    compliance = start_compliance(setup, start)
     liquid_scheme, membrane_scheme = WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]]
     grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
     model = FluidModel(grid=grid, container=SphericalTank(radius),
@@ -122,22 +144,21 @@ def _assemble(setup, body, run, window: float) -> _Parts:
                   Contents(held, mass, centre, compliance), liquid_mass, c0)
 
 
-def start_compliance(setup, xpbd: XpbdModel, settings: XpbdSettings, volume: float, state,
-                     level: float) -> Compliance:
-    """The static lateral compliance of the start (:mod:`fsi.lateral_compliance`): the
-    membrane's equilibria under b = (+-tilt, 0, -g) from ``state``, by the start's own
-    XPBD ``settings``, holding the liquid ``volume`` (m^3), the level (Pa) the guess."""
+def start_compliance(setup, start: StaticStart, tilt: float = DEFAULT_TILT) -> Compliance:
+    """The static lateral compliance of the ``start`` (:mod:`fsi.lateral_compliance`): the
+    membrane's equilibria under b = (+-``tilt``, 0, -g) m/s^2 from the start's state, by its
+    own XPBD settings, holding its liquid volume, its level (Pa) the guess."""
     liquid = setup.liquid
     g = np.asarray(liquid.body_acceleration, dtype=float)
 
     def centre_at(b_x):
         tilted = replace(liquid, body_acceleration=(b_x, g[1], g[2]))
-        out, info = solve_equilibrium(xpbd, state, hydrostatic_load(tilted, volume, level),
-                                      settings)
-        return (contents_centre(setup.model, out.node_position, liquid.density, volume),
+        load = hydrostatic_load(tilted, start.volume, start.info.pressure_level)
+        out, info = solve_equilibrium(start.xpbd, start.state, load, start.settings)
+        return (contents_centre(setup.model, out.node_position, liquid.density, start.volume),
                 info.converged)
 
-    return static_compliance(centre_at)
+    return static_compliance(centre_at, tilt)
 
 
 def _sampler(setup, parts: _Parts, samples: list):

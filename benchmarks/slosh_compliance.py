@@ -1,0 +1,149 @@
+"""The diaphragm's static lateral compliance by membrane grid: the hydrostatic tier's measure
+of what the coupled slosh run's frequency converges to.
+
+    python benchmarks/slosh_compliance.py [--grid-sizes 10 14 20 26] [--fills 0.5]
+                                          [--tilts 0.05 0.01] [--window 0.002] [--no-shell]
+
+For each membrane grid N and tank fraction, the ``slosh-diaphragm`` scene's static start
+(XPBD, the windows' substeps and sweeps: the fold state a coupled run starts from) is tilted
+by b_x = +- tilt and C = d x_c / d b_x of liquid and membrane is measured
+(:mod:`fsi.lateral_compliance`); with the shell model (exact potential-energy minimum)
+polished from the same start unless ``--no-shell``. C bounds the first slosh mode,
+f1 <= 1 / (2 pi sqrt(C)), and equals the coupled run's sum m_n / (M omega_n^2).
+Prints one JSON object: per case C at each tilt, the response's asymmetry, convergence, the
+bound (Hz and lambda1 = omega^2 R / g), and the ratio to the free surface's C = |z_c| / g
+(the anchor), and the start's stretching and bending energies. Writes ``benchmarks/output/slosh_compliance.png`` (C / C_free against N).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from fsi.build import build
+from fsi.lateral_compliance import (contents_centre, first_mode_bound, free_surface_compliance,
+                                    static_compliance)
+from fsi.models import hydrostatic_load
+from fsi.procedures.slosh_diaphragm import start_compliance, static_start
+from structure.hyperelastic import svk_energy_and_gradient
+from fsi.scene import load_scene
+from fluid.container import SphericalTank
+from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
+
+OUTPUT = Path(__file__).resolve().parent / "output"
+FIGURE = OUTPUT / "slosh_compliance.png"
+
+
+def _setup(grid_size: int, fill: float):
+    scene = load_scene("slosh-diaphragm")
+    scene.values["membrane"]["grid_size"] = grid_size
+    scene.values["slosh"]["fill"] = fill
+    return build(scene)
+
+
+def _shell(setup, start, tilts):
+    """C of the shell model polished from the XPBD start, at each tilt."""
+    shell = ShellModel.from_membrane(setup.model, ShellSettings(), start.xpbd.bending)
+    liquid = setup.liquid
+    g = np.asarray(liquid.body_acceleration, dtype=float)
+
+    def centre_at(b_x):
+        tilted = replace(liquid, body_acceleration=(b_x, g[1], g[2]))
+        load = hydrostatic_load(tilted, start.volume, start.info.pressure_level)
+        out, info = shell_solve(shell, start.state, load, ShellSettings())
+        return (contents_centre(setup.model, out.node_position, liquid.density,
+                                start.volume), info.converged)
+
+    return [static_compliance(centre_at, t) for t in tilts]
+
+
+def energies(setup, start) -> dict:
+    """The start's stretching and bending energies (J) and its area over the rest area."""
+    xp, mat = start.xpbd, setup.model.material
+    x = np.ascontiguousarray(start.state.node_position)
+    stretch, _ = svk_energy_and_gradient(x, xp.triangles, xp.rest_inverse, xp.rest_area,
+                                         mat.thickness, mat.youngs_modulus, mat.poisson_ratio)
+    bend, _ = xp.bending.energy_and_gradient(x)
+    t = xp.triangles
+    area = 0.5 * np.linalg.norm(np.cross(x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]),
+                                axis=1)
+    return dict(start_stretch_energy=float(stretch), start_bending_energy=float(bend),
+                start_area_ratio=float(area.sum() / xp.rest_area.sum()))
+
+
+def case(grid_size: int, fill: float, tilts, window: float, shell: bool) -> dict:
+    t0 = time.perf_counter()
+    setup = _setup(grid_size, fill)
+    start = static_start(setup, window)
+    xpbd = [start_compliance(setup, start, t) for t in tilts]
+    radius = setup.model.radius
+    gravity = -float(setup.liquid.body_acceleration[2])
+    tank = SphericalTank(radius)
+    free = free_surface_compliance(tank.centroid_below(tank.level_holding(start.volume)),
+                                   gravity)
+    c = xpbd[-1].compliance
+    omega = first_mode_bound(c)
+    out = dict(grid_size=grid_size, fill=fill, tilts=list(tilts),
+               start_converged=bool(start.info.converged),
+               pressure_level=float(start.info.pressure_level),
+               compliance=[x.compliance for x in xpbd],
+               asymmetry=[x.asymmetry for x in xpbd], converged=[x.converged for x in xpbd],
+               free_surface_compliance=free, ratio_to_free_surface=c / free,
+               first_mode_bound_hz=omega / (2 * np.pi),
+               lambda1_bound=omega**2 * radius / gravity, **energies(setup, start))
+    if shell:
+        sh = _shell(setup, start, tilts)
+        out.update(shell_compliance=[x.compliance for x in sh],
+                   shell_asymmetry=[x.asymmetry for x in sh],
+                   shell_converged=[x.converged for x in sh])
+    out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+def plot(cases: list[dict]) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for fill in sorted({c["fill"] for c in cases}):
+        rows = [c for c in cases if c["fill"] == fill]
+        n = [c["grid_size"] for c in rows]
+        ax.plot(n, [c["ratio_to_free_surface"] for c in rows], "o-",
+                label=f"XPBD start, tank fraction {fill:g}")
+        if "shell_compliance" in rows[0]:
+            ax.plot(n, [c["shell_compliance"][-1] / c["free_surface_compliance"] for c in rows],
+                    "s--", label=f"shell from it, tank fraction {fill:g}")
+    ax.set_xlabel("membrane grid N")
+    ax.set_ylabel("C / C free surface")
+    ax.set_title("Table 4.1 diaphragm: static lateral compliance")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    OUTPUT.mkdir(exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(FIGURE, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--grid-sizes", type=int, nargs="+", default=[10, 14, 20, 26])
+    parser.add_argument("--fills", type=float, nargs="+", default=[0.5])
+    parser.add_argument("--tilts", type=float, nargs="+", default=[0.05, 0.01],
+                        help="lateral body accelerations (m/s^2); the last one is reported")
+    parser.add_argument("--window", type=float, default=0.002, help="s: the XPBD substep's")
+    parser.add_argument("--no-shell", action="store_true")
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.WARNING)
+    cases = [case(n, f, args.tilts, args.window, not args.no_shell)
+             for f in args.fills for n in args.grid_sizes]
+    plot(cases)
+    print(json.dumps(dict(benchmark="slosh_compliance", figure=str(FIGURE), cases=cases)))
+
+
+if __name__ == "__main__":
+    main()
