@@ -3,6 +3,7 @@ of what the coupled slosh run's frequency converges to.
 
     python benchmarks/slosh_compliance.py [--grid-sizes 10 14 20 26] [--fills 0.5]
                                           [--tilts 0.05 0.01] [--window 0.002] [--no-shell]
+                                          [--set membrane.youngs_modulus=8.6e5 ...]
 
 For each membrane grid N and tank fraction, the ``slosh-diaphragm`` scene's static start
 (XPBD, the windows' substeps and sweeps: the fold state a coupled run starts from) is tilted
@@ -12,7 +13,8 @@ polished from the same start unless ``--no-shell``. C bounds the first slosh mod
 f1 <= 1 / (2 pi sqrt(C)), and equals the coupled run's sum m_n / (M omega_n^2).
 Prints one JSON object: per case C at each tilt, the response's asymmetry, convergence, the
 bound (Hz and lambda1 = omega^2 R / g), and the ratio to the free surface's C = |z_c| / g
-(the anchor), and the start's stretching and bending energies. Writes ``benchmarks/output/slosh_compliance.png`` (C / C_free against N).
+(the anchor), and the start's stretching and bending energies. ``--set`` changes one scene
+key (Young's modulus, density, rim support) to see what sets C. Writes ``benchmarks/output/slosh_compliance.png`` (C / C_free against N).
 """
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ import argparse
 import json
 import logging
 import time
+import tomllib
 from dataclasses import replace
 from pathlib import Path
 
@@ -39,11 +42,25 @@ OUTPUT = Path(__file__).resolve().parent / "output"
 FIGURE = OUTPUT / "slosh_compliance.png"
 
 
-def _setup(grid_size: int, fill: float):
+def _setup(grid_size: int, fill: float, changes: dict):
     scene = load_scene("slosh-diaphragm")
-    scene.values["membrane"]["grid_size"] = grid_size
-    scene.values["slosh"]["fill"] = fill
+    v = scene.values
+    v["membrane"]["grid_size"] = grid_size
+    v["slosh"]["fill"] = fill
+    for key, value in changes.items():
+        section, name = key.split(".")
+        if name not in v.get(section, {}):
+            raise SystemExit(f"--set {key}: no such scene key in slosh-diaphragm")
+        v[section][name] = value
     return build(scene)
+
+
+def _change(text: str) -> tuple:
+    """'section.key=value' (the value a TOML scalar) -> (key, value)."""
+    key, _, value = text.partition("=")
+    if key.count(".") != 1 or not value:
+        raise argparse.ArgumentTypeError(f"--set {text!r}: expected section.key=value")
+    return key.strip(), tomllib.loads(f"v = {value}")["v"]
 
 
 def _shell(setup, start, tilts):
@@ -76,9 +93,10 @@ def energies(setup, start) -> dict:
                 start_area_ratio=float(area.sum() / xp.rest_area.sum()))
 
 
-def case(grid_size: int, fill: float, tilts, window: float, shell: bool) -> dict:
+def case(grid_size: int, fill: float, tilts, window: float, shell: bool,
+         changes: dict) -> dict:
     t0 = time.perf_counter()
-    setup = _setup(grid_size, fill)
+    setup = _setup(grid_size, fill, changes)
     start = static_start(setup, window)
     xpbd = [start_compliance(setup, start, t) for t in tilts]
     radius = setup.model.radius
@@ -88,7 +106,7 @@ def case(grid_size: int, fill: float, tilts, window: float, shell: bool) -> dict
                                    gravity)
     c = xpbd[-1].compliance
     omega = first_mode_bound(c)
-    out = dict(grid_size=grid_size, fill=fill, tilts=list(tilts),
+    out = dict(grid_size=grid_size, fill=fill, tilts=list(tilts), changes=changes,
                start_converged=bool(start.info.converged),
                pressure_level=float(start.info.pressure_level),
                compliance=[x.compliance for x in xpbd],
@@ -137,9 +155,13 @@ def main(argv=None) -> None:
                         help="lateral body accelerations (m/s^2); the last one is reported")
     parser.add_argument("--window", type=float, default=0.002, help="s: the XPBD substep's")
     parser.add_argument("--no-shell", action="store_true")
+    parser.add_argument("--set", type=_change, action="append", default=[],
+                        metavar="SECTION.KEY=VALUE",
+                        help="change the scene, e.g. membrane.youngs_modulus=8.6e5")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
-    cases = [case(n, f, args.tilts, args.window, not args.no_shell)
+    changes = dict(args.set)
+    cases = [case(n, f, args.tilts, args.window, not args.no_shell, changes)
              for f in args.fills for n in args.grid_sizes]
     plot(cases)
     print(json.dumps(dict(benchmark="slosh_compliance", figure=str(FIGURE), cases=cases)))
