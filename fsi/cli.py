@@ -18,23 +18,40 @@ log = logging.getLogger("fsi")
 
 
 class ProgressBar:
-    """Progress with ETA on stderr (tqdm), driven by fraction done."""
+    """Progress with ETA on stderr (tqdm), driven by fraction done. The ETA is the rate since
+    the first work reported, so a long setup (a static start) does not inflate it."""
 
     def __init__(self, label: str):
         from tqdm import tqdm
 
         self.bar = tqdm(total=1000, desc=label, unit="‰", file=sys.stderr,
-                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining} {postfix}",
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}{postfix}",
                         mininterval=0.5)
         self.last = -1e9
+        self.first = None  # (time, fraction) of the first report with work done
+
+    def eta(self, now: float, fraction: float) -> str:
+        """'ETA h:mm:ss' from the rate since the first report with work done, or '' before
+        there is a rate."""
+        from tqdm import tqdm
+
+        if self.first is None:
+            if fraction > 0:
+                self.first = (now, fraction)
+            return ""
+        t0, f0 = self.first
+        if fraction <= f0:
+            return ""
+        return "ETA " + tqdm.format_interval((now - t0) / (fraction - f0) * (1 - fraction))
 
     def __call__(self, fraction: float, message: str) -> None:
         now = time.monotonic()
+        eta = self.eta(now, fraction)
         if fraction < 1.0 and now - self.last < 0.5:
             return
         self.last = now
         self.bar.n = int(1000 * fraction)
-        self.bar.set_postfix_str(message, refresh=False)
+        self.bar.set_postfix_str(f"{eta}, {message}" if eta else message, refresh=False)
         self.bar.refresh()
 
     def close(self):

@@ -182,3 +182,18 @@ def test_tank_accelerating_sideways_tilts_the_membrane(tmp_path):
     a = np.sin(2 * np.pi * 5.0 * 0.02)  # m/s^2 at the last frame
     ratio = np.polyfit(x, dp, 1)[0] / (-1000.0 * a)
     assert 0.0 < ratio < 0.5
+
+
+def test_progress_eta_counts_from_the_first_work_done():
+    """A long setup before the first window does not enter the ETA: with the first work
+    reported at 10 % after a 1000 s setup and 20 % 100 s later, 800 s remain (not 4,400 s
+    from the mean rate since the start)."""
+    from fsi.cli import ProgressBar
+
+    bar = ProgressBar("eta")
+    try:
+        assert bar.eta(1000.0, 0.0) == ""
+        assert bar.eta(1000.0, 0.1) == ""
+        assert bar.eta(1100.0, 0.2) == "ETA 13:20"
+    finally:
+        bar.close()
