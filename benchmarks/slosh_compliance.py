@@ -23,15 +23,12 @@ import json
 import logging
 import time
 import tomllib
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from fsi.build import build
-from fsi.lateral_compliance import (contents_centre, first_mode_bound, free_surface_compliance,
-                                    static_compliance)
-from fsi.models import hydrostatic_load
+from fsi.lateral_compliance import first_mode_bound, free_surface_compliance
 from fsi.procedures.slosh_diaphragm import start_compliance, static_start
 from structure.hyperelastic import svk_energy_and_gradient
 from fsi.scene import load_scene
@@ -65,18 +62,13 @@ def _change(text: str) -> tuple:
 
 def _shell(setup, start, tilts):
     """C of the shell model polished from the XPBD start, at each tilt."""
-    shell = ShellModel.from_membrane(setup.model, ShellSettings(), start.xpbd.bending)
-    liquid = setup.liquid
-    g = np.asarray(liquid.body_acceleration, dtype=float)
+    shell, settings = ShellModel.from_membrane(setup.model, ShellSettings(),
+                                               start.xpbd.bending), ShellSettings()
 
-    def centre_at(b_x):
-        tilted = replace(liquid, body_acceleration=(b_x, g[1], g[2]))
-        load = hydrostatic_load(tilted, start.volume, start.info.pressure_level)
-        out, info = shell_solve(shell, start.state, load, ShellSettings())
-        return (contents_centre(setup.model, out.node_position, liquid.density,
-                                start.volume), info.converged)
+    def solve(state, load):
+        return shell_solve(shell, state, load, settings)
 
-    return [static_compliance(centre_at, t) for t in tilts]
+    return [start_compliance(setup, start, t, solve) for t in tilts]
 
 
 def energies(setup, start) -> dict:

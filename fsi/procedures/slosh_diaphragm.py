@@ -144,17 +144,22 @@ def _assemble(setup, body, run, window: float) -> _Parts:
                   Contents(held, mass, centre, compliance), liquid_mass, c0)
 
 
-def start_compliance(setup, start: StaticStart, tilt: float = DEFAULT_TILT) -> Compliance:
+def start_compliance(setup, start: StaticStart, tilt: float = DEFAULT_TILT,
+                     solve=None) -> Compliance:
     """The static lateral compliance of the ``start`` (:mod:`fsi.lateral_compliance`): the
-    membrane's equilibria under b = (+-``tilt``, 0, -g) m/s^2 from the start's state, by its
-    own XPBD settings, holding its liquid volume, its level (Pa) the guess."""
+    membrane's equilibria under b = (+-``tilt``, 0, -g) m/s^2 from the start's state, by
+    ``solve(state, load)`` -> (state, Equilibrium) (the start's own XPBD settings when None),
+    holding its liquid volume, its level (Pa) the guess."""
     liquid = setup.liquid
     g = np.asarray(liquid.body_acceleration, dtype=float)
+    if solve is None:
+        def solve(state, load):
+            return solve_equilibrium(start.xpbd, state, load, start.settings)
 
     def centre_at(b_x):
         tilted = replace(liquid, body_acceleration=(b_x, g[1], g[2]))
-        load = hydrostatic_load(tilted, start.volume, start.info.pressure_level)
-        out, info = solve_equilibrium(start.xpbd, start.state, load, start.settings)
+        out, info = solve(start.state,
+                          hydrostatic_load(tilted, start.volume, start.info.pressure_level))
         return (contents_centre(setup.model, out.node_position, liquid.density, start.volume),
                 info.converged)
 
