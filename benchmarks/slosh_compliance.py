@@ -29,8 +29,7 @@ import numpy as np
 
 from fsi.build import build
 from fsi.lateral_compliance import first_mode_bound, free_surface_compliance
-from fsi.procedures.slosh_diaphragm import start_compliance, static_start
-from structure.hyperelastic import svk_energy_and_gradient
+from fsi.procedures.slosh_diaphragm import elastic_energies, start_compliance, static_start
 from fsi.scene import load_scene
 from fluid.container import SphericalTank
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
@@ -71,17 +70,14 @@ def _shell(setup, start, tilts):
     return [start_compliance(setup, start, t, solve) for t in tilts]
 
 
-def energies(setup, start) -> dict:
+def energies(start) -> dict:
     """The start's stretching and bending energies (J) and its area over the rest area."""
-    xp, mat = start.xpbd, setup.model.material
-    x = np.ascontiguousarray(start.state.node_position)
-    stretch, _ = svk_energy_and_gradient(x, xp.triangles, xp.rest_inverse, xp.rest_area,
-                                         mat.thickness, mat.youngs_modulus, mat.poisson_ratio)
-    bend, _ = xp.bending.energy_and_gradient(x)
+    xp, x = start.xpbd, start.state.node_position
+    stretch, bend = elastic_energies(xp, x)
     t = xp.triangles
     area = 0.5 * np.linalg.norm(np.cross(x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]),
                                 axis=1)
-    return dict(start_stretch_energy=float(stretch), start_bending_energy=float(bend),
+    return dict(start_stretch_energy=stretch, start_bending_energy=bend,
                 start_area_ratio=float(area.sum() / xp.rest_area.sum()))
 
 
@@ -105,7 +101,7 @@ def case(grid_size: int, fill: float, tilts, window: float, shell: bool,
                asymmetry=[x.asymmetry for x in xpbd], converged=[x.converged for x in xpbd],
                free_surface_compliance=free, ratio_to_free_surface=c / free,
                first_mode_bound_hz=omega / (2 * np.pi),
-               lambda1_bound=omega**2 * radius / gravity, **energies(setup, start))
+               lambda1_bound=omega**2 * radius / gravity, **energies(start))
     if shell:
         sh = _shell(setup, start, tilts)
         out.update(shell_compliance=[x.compliance for x in sh],

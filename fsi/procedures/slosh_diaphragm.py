@@ -51,17 +51,22 @@ from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
 from .slosh import Contents, _tank_volume, register_surface
 
 
-def elastic_energy(model: XpbdModel, node_position: np.ndarray) -> float:
-    """The membrane's elastic energy (J) at ``node_position`` (n, 3) m: the Saint
-    Venant-Kirchhoff plane-stress energy of its triangles plus the mid-edge bending energy,
-    the potentials of its XPBD constraints."""
+def elastic_energies(model: XpbdModel, node_position: np.ndarray) -> tuple[float, float]:
+    """The membrane's stretching and bending energies (J) at ``node_position`` (n, 3) m: the
+    Saint Venant-Kirchhoff plane-stress energy of its triangles and the mid-edge bending
+    energy, the potentials of its XPBD constraints."""
     mat = model.base.material
     x = np.ascontiguousarray(node_position, dtype=float)
     stretch, _ = svk_energy_and_gradient(x, model.triangles, model.rest_inverse,
                                          model.rest_area, mat.thickness, mat.youngs_modulus,
                                          mat.poisson_ratio)
     bend, _ = model.bending.energy_and_gradient(x)
-    return float(stretch + bend)
+    return float(stretch), float(bend)
+
+
+def elastic_energy(model: XpbdModel, node_position: np.ndarray) -> float:
+    """The membrane's elastic energy (J): stretching plus bending (:func:`elastic_energies`)."""
+    return sum(elastic_energies(model, node_position))
 
 
 def liquid_centroid(model: FluidModel, solver: FluidSolver) -> np.ndarray:
