@@ -7,11 +7,16 @@
 * ``coupling.png`` (coupled-fill runs): coupling iterations, pressure level and liquid volume
   per window against time;
 * ``slosh.png`` (slosh runs): the tank's acceleration, the liquid's centre of mass, the force
-  and moment on the tank and the energies against time.
+  and moment on the tank and the energies against time;
+* ``plate_profiles.png``, ``plate_profiles_nondimensional.png``, ``plate_radius_trend.png``
+  (plate-estimate runs): thesis Figs 3.2-3.4, every closed form, dashed outside its range.
+
+Each procedure whose results are not membrane frames registers its plots in :data:`PLOTS`.
 """
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Callable
 
 import matplotlib
 
@@ -33,15 +38,32 @@ def _tank(ax, radius):
     ax.axhline(0.0, color="0.85", lw=0.8)
 
 
+PLOTS: dict[str, Callable[[dict, Path], list[Path]]] = {}
+"""procedure name -> plots(result, folder) -> written paths; procedures not listed get the
+membrane plots (:func:`membrane_plots`)."""
+
+
+def register_plots(procedure: str):
+    """Decorator: ``plots(result, folder)`` draws the results of ``procedure``."""
+    def add(plots):
+        PLOTS[procedure] = plots
+        return plots
+    return add
+
+
 def make_plots(run_dir) -> list[Path]:
     """Write the PNGs of the run in ``run_dir`` into ``run_dir/plots``; returns their paths."""
     run_dir = Path(run_dir)
     res = read_result(run_dir)
-    radius, n = float(res["attrs"]["radius"]), int(res["attrs"]["grid_size"])
     out = run_dir / "plots"
     out.mkdir(exist_ok=True)
-    if res["attrs"].get("procedure") == "slosh":
-        return [_slosh_plot(res, out / "slosh.png")]
+    return PLOTS.get(res["attrs"].get("procedure"), membrane_plots)(res, out)
+
+
+def membrane_plots(res: dict, out: Path) -> list[Path]:
+    """Cross-section and surface of every frame, all cross-sections, and the coupling
+    history of a coupled run."""
+    radius, n = float(res["attrs"]["radius"]), int(res["attrs"]["grid_size"])
     written = []
     frames = res["frames"]
     for k, pos in enumerate(frames["node_position"]):
@@ -132,6 +154,11 @@ def _coupling_plot(res: dict, out: Path) -> Path:
     return _save(fig, out / "coupling.png")
 
 
+@register_plots("slosh")
+def slosh_plots(res: dict, out: Path) -> list[Path]:
+    return [_slosh_plot(res, out / "slosh.png")]
+
+
 def _slosh_plot(res: dict, path: Path) -> Path:
     """Acceleration, centre of mass, force, moment and energies of a slosh run."""
     w, a = res["windows"], res["attrs"]
@@ -165,4 +192,69 @@ def _slosh_plot(res: dict, path: Path) -> Path:
     if "lambda1" in a:
         title += f"\n{a['frequency_hz']:.3f} Hz, lambda1 {a['lambda1']:.4f}, zeta {a['zeta']:.4f}"
     axes[0].set_title(title)
+    return _save(fig, path)
+
+
+def _estimate_style(name: str) -> dict:
+    return {"small": dict(color="tab:blue"), "large": dict(color="tab:orange"),
+            "hencky": dict(color="tab:green")}.get(name, {})
+
+
+def _estimate_names(group: dict) -> list[str]:
+    return [k.removeprefix("valid_") for k in group if k.startswith("valid_")]
+
+
+@register_plots("plate-estimate")
+def plate_plots(res: dict, out: Path) -> list[Path]:
+    """Thesis Figs 3.2 (profiles), 3.3 (the same over t and a) and 3.4 (w0 / a against the
+    tank radius), every estimate, solid inside its validity range and dashed outside."""
+    g, a = res["plate"], res["attrs"]
+    t, radius = float(a["thickness"]), float(a["flat_radius"])
+    names = _estimate_names(g)
+    written = []
+    for scaled, path in ((False, "plate_profiles.png"), (True, "plate_profiles_nondimensional.png")):
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        top = 0.0
+        for k, fill in enumerate(g["tank_fraction"]):
+            r = g["radial_position"][k]
+            x, sx = (r / radius, 1.0 / t) if scaled else (r, 1e3)
+            for name in names:
+                w = g[f"deflection_{name}"][k] * sx
+                style = "-" if g[f"valid_{name}"][k] else "--"
+                ax.plot(np.r_[-x[::-1], x], -np.r_[w[::-1], w], style, lw=1.0 + 2 * fill,
+                        label=f"{name}, tank fraction {fill:.2f}", **_estimate_style(name))
+                if name != "small":
+                    top = max(top, w.max())
+        ax.set_ylim(-1.3 * top, 0.1 * top)  # the linear plate leaves the scale: see the legend
+        ax.set_xlabel("r / a" if scaled else "r (m)")
+        ax.set_ylabel("w / t" if scaled else "w (mm)")
+        ax.set_title(f"Flat diaphragm a = {radius:.4f} m, t = {1e3 * t:.3f} mm, "
+                     f"{a['load']} load\n(dashed: outside the estimate's validity range)")
+        ax.legend(fontsize=7, ncol=2)
+        ax.grid(alpha=0.3)
+        written.append(_save(fig, out / path))
+    written.append(_plate_trend_plot(res, names, out / "plate_radius_trend.png"))
+    return written
+
+
+def _plate_trend_plot(res: dict, names: list[str], path: Path) -> Path:
+    s, g = res["radius_sweep"], res["plate"]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    r = s["tank_radius"]
+    for j, fill in enumerate(g["tank_fraction"]):
+        for name in names:
+            ratio = s[f"centre_deflection_{name}"][:, j] / r
+            valid = s[f"valid_{name}"][:, j].astype(bool)
+            ax.plot(r, np.where(valid, ratio, np.nan), "-", lw=1 + 2 * fill,
+                    label=f"{name}, tank fraction {fill:.2f}", **_estimate_style(name))
+            ax.plot(r, np.where(valid, np.nan, ratio), "--", lw=0.8, **_estimate_style(name))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("tank radius = diaphragm radius a (m)")
+    ax.set_ylabel("centre deflection / radius, w0 / a")
+    ax.axvline(float(res["attrs"]["flat_radius"]), color="0.6", lw=0.8)
+    ax.set_title(f"t = {1e3 * float(res['attrs']['thickness']):.3f} mm "
+                 "(dashed: outside the validity range)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, which="both")
     return _save(fig, path)

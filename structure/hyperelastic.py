@@ -280,15 +280,20 @@ def equilibrium_at_volume(membrane: TriangleMembrane, law: HyperelasticLaw,
 
 
 def equilibrium_under_pressure(membrane: TriangleMembrane, law, pressure: float,
-                               fixed: np.ndarray, start: np.ndarray | None = None) -> np.ndarray:
+                               fixed: np.ndarray, start: np.ndarray | None = None,
+                               bending=None, energy_scale: float | None = None) -> np.ndarray:
     """Equilibrium (n, 3) m of a membrane with nodes ``fixed`` held, loaded by a uniform
     follower pressure ``pressure`` (Pa) on the side its triangle normals point away from:
-    minimises W(x) - p V(x), V the volume swept between the surface and its fixed rim."""
+    minimises W(x) + W_bending(x) - p V(x), V the volume swept between the surface and its
+    fixed rim; ``bending`` (e.g. :class:`structure.bending.MidedgeBending`, with
+    ``energy_and_gradient(pos)``) adds its energy, None a bare membrane.  ``energy_scale`` (J)
+    normalises the objective (default E t A, the membrane's; a load far below E t, in the
+    plate regime, needs the load's own, e.g. p t A)."""
     x0 = np.asarray(membrane.rest if start is None else start, dtype=float)
     n = len(x0)
     free = np.ones(n, dtype=bool)
     free[np.asarray(fixed)] = False
-    scale_e = law.stiffness_scale * membrane.thickness * membrane.rest_area.sum()
+    scale_e = energy_scale or law.stiffness_scale * membrane.thickness * membrane.rest_area.sum()
 
     def objective(flat):
         pos = x0.copy()
@@ -296,6 +301,9 @@ def equilibrium_under_pressure(membrane: TriangleMembrane, law, pressure: float,
         w, gw = membrane.energy_and_gradient(pos, law)
         if not np.isfinite(w):
             return np.inf, np.zeros_like(flat)
+        if bending is not None:
+            wb, gb = bending.energy_and_gradient(pos)
+            w, gw = w + wb, gw + gb
         v, gv = enclosed_volume(pos, membrane.triangles)
         return (w - pressure * v) / scale_e, (gw - pressure * gv)[free].ravel() / scale_e
 

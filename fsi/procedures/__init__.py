@@ -1,5 +1,6 @@
 """The procedures a scene can run, one module each, registered in :data:`PROCEDURES`
-(:mod:`fsi.registry`): ``coupled-fill``, ``thesis-ramp`` and ``volume-sweep``.
+(:mod:`fsi.registry`): ``plate-estimate`` (closed forms), ``volume-sweep`` and
+``thesis-ramp`` (static), ``coupled-fill`` and ``slosh`` (dynamic).
 
 Importing this package imports every module in it, and each procedure module registers its
 record with :func:`fsi.registry.register_procedure`: a new procedure is a new module here.
