@@ -49,7 +49,19 @@ UNITS = {
     "dissipation_rate": "W", "dissipated_energy": "J", "tank_acceleration": "m/s^2",
     "force": "N", "moment": "N m", "centre_of_mass": "m", "membrane_kinetic_energy": "J",
     "membrane_elastic_energy": "J", "membrane_liquid_volume": "m^3", "node_mass": "kg",
+    "pressure": "Pa", "radial_position": "m", "tank_radius": "m",
 }
+
+UNIT_PREFIXES = {"deflection_": "m", "centre_deflection_": "m", "valid_": "1"}
+"""Units of the per-estimate datasets of a plate-estimate run (``deflection_small``, ...)."""
+
+
+def units_of(name: str) -> str:
+    """The units of dataset ``name`` ('' where it has none)."""
+    if name in UNITS:
+        return UNITS[name]
+    return next((u for prefix, u in UNIT_PREFIXES.items() if name.startswith(prefix)), "")
+
 
 RESULT_FILE = "result.h5"
 XDMF_FILE = "frames.xdmf"
@@ -78,7 +90,7 @@ def write_result(out_dir: Path, scene, model, result) -> Path:
                 grp = f.create_group(name)
                 for key, arr in frames.items():
                     ds = grp.create_dataset(key, data=arr)
-                    ds.attrs["units"] = UNITS.get(key, "")
+                    ds.attrs["units"] = units_of(key)
         if "node_position" in result.groups.get("frames", {}):
             _write_xdmf(tmp, model, result.groups["frames"])
         for p in tmp.iterdir():

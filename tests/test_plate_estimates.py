@@ -11,6 +11,7 @@ where each holds; the thesis puts the limits at w0 of t / 5 (linear) and 3 t (la
 """
 import math
 
+import h5py
 import numpy as np
 import pytest
 
@@ -106,6 +107,10 @@ def test_plate_estimate_scene_runs_and_marks_validity(tmp_path):
     assert g["valid_hencky"].all()
     sweep = res["radius_sweep"]
     assert sweep["valid_small"][0].all() and not sweep["valid_small"][-1].any()
+    with h5py.File(tmp_path / "out" / "result.h5") as f:
+        for name, ds in f["plate"].items():
+            assert ds.attrs["units"], name
+        assert f["plate/centre_deflection_large"].attrs["units"] == "m"
     assert sorted(p.name for p in (tmp_path / "out" / "plots").iterdir()) == [
         "plate_profiles.png", "plate_profiles_nondimensional.png", "plate_radius_trend.png"]
 
