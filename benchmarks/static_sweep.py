@@ -44,6 +44,7 @@ def main() -> dict:
         warm = parse_scene(f"[scene]\nprocedure = '{proc}'\n[structure]\nmodel = 'thesis'\n"
                            "[membrane]\ngrid_size = 6\n"
                            "[sweep]\nfills = [0.0, 0.5]\ndrain = false\n"
+                           "scale = 'full-inversion'\n"
                            "[thesis]\nend_time = 0.01\nframe_interval = 10\n")
         _timed(build(warm))
     logging.getLogger("fsi").setLevel(logging.WARNING)

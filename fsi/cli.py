@@ -90,6 +90,34 @@ def cmd_run(args) -> int:
     return 0
 
 
+class UsageError(Exception):
+    """A command-line value out of range: one line on stderr, exit status 2."""
+
+
+PAIRING_TOLERANCE = 0.01
+"""Tank fractions of two compared frames further apart than this are flagged (-)."""
+
+
+def _pick_frames(res: dict, fill, scale: str, label: str) -> list[int]:
+    """Indices of the frames of ``res`` to compare: all, or the one nearest ``fill`` on
+    ``scale`` (tank: V / (4/3 pi R^3); full-inversion: the thesis's, static results only)."""
+    frames = res["frames"]
+    if fill is None:
+        return list(range(len(frames["tank_fraction"])))
+    if not 0.0 <= fill <= 1.0:
+        raise UsageError(f"--fill {fill}: a fill is in [0, 1]")
+    if scale == "tank":
+        values = frames["tank_fraction"]
+    elif "mirrored_volume" in res["attrs"]:  # a static result: it carries its full inversion
+        a = res["attrs"]
+        values = (frames["liquid_volume"] - a["empty_volume"]) / (a["full_volume"]
+                                                                  - a["empty_volume"])
+    else:
+        raise UsageError(f"--scale full-inversion: {label} has no full inversion (only static "
+                         f"results do); compare by tank fraction")
+    return [int(np.argmin(np.abs(values - fill)))]
+
+
 def cmd_compare(args) -> int:
     from .compare import eqn_6_1_error, read_obj_surface
     from .output import read_result
@@ -97,26 +125,32 @@ def cmd_compare(args) -> int:
     a = read_result(args.a)
     radius = float(a["attrs"]["radius"])
     frames = a["frames"]
-    pick = range(len(frames["fill_fraction"]))
-    if args.fill is not None:
-        pick = [int(np.argmin(np.abs(frames["target_fill_fraction"] - args.fill)))]
+    pick = _pick_frames(a, args.fill, args.scale, str(args.a))
     if str(args.b).lower().endswith(".obj"):
         points, faces = read_obj_surface(args.b)
         points = points * args.obj_scale
-        print("fill A   Eqn 6.1 error (%)  vs " + str(args.b))
+        print("tank A   Eqn 6.1 error (%)  vs " + str(args.b))
         for k in pick:
             e = eqn_6_1_error(points, faces, frames["node_position"][k], radius)
-            print(f"{frames['fill_fraction'][k]:6.3f}  {e:10.4f}")
+            print(f"{frames['tank_fraction'][k]:6.3f}  {e:10.4f}")
         return 0
     b = read_result(args.b)
     faces = b["membrane"]["face_nodes"]
-    b_fill = b["frames"]["fill_fraction"]
-    print("fill A  fill B   Eqn 6.1 error (%)   (B's frame nearest in measured fill)")
+    b_tank = b["frames"]["tank_fraction"]
+    print("tank A  tank B   Eqn 6.1 error (%)   (B's frame nearest in tank fraction "
+          "V / (4/3 pi R^3))")
+    flagged = False
     for k in pick:
-        j = int(np.argmin(np.abs(b_fill - frames["fill_fraction"][k])))
+        j = int(np.argmin(np.abs(b_tank - frames["tank_fraction"][k])))
         e = eqn_6_1_error(b["frames"]["node_position"][j], faces, frames["node_position"][k],
                           radius)
-        print(f"{frames['fill_fraction'][k]:6.3f}  {b_fill[j]:6.3f}  {e:10.4f}")
+        far = abs(b_tank[j] - frames["tank_fraction"][k]) > PAIRING_TOLERANCE
+        flagged |= far
+        print(f"{frames['tank_fraction'][k]:6.3f}  {b_tank[j]:6.3f}  {e:10.4f}"
+              + ("  *" if far else ""))
+    if flagged:
+        print(f"* B has no frame within {PAIRING_TOLERANCE} of A's tank fraction: the shapes "
+              f"hold different volumes")
     return 0
 
 
@@ -145,7 +179,11 @@ def main(argv=None) -> int:
                                        "or a result and a Wavefront .obj surface")
     p.add_argument("a", help="result folder or result.h5 (compared)")
     p.add_argument("b", help="result folder / result.h5, or .obj surface (reference)")
-    p.add_argument("--fill", type=float, help="compare only the frame at this fill")
+    p.add_argument("--fill", type=float,
+                   help="compare only A's frame nearest this fill, in [0, 1], on --scale")
+    p.add_argument("--scale", choices=("tank", "full-inversion"), default="tank",
+                   help="scale of --fill: tank fraction V / (4/3 pi R^3) (default) or the "
+                        "thesis's full-inversion scale (static results)")
     p.add_argument("--obj-scale", type=float, default=1.0,
                    help="factor from .obj units to m (default 1)")
     p.set_defaults(func=cmd_compare)
@@ -156,7 +194,7 @@ def main(argv=None) -> int:
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     try:
         return args.func(args)
-    except (SceneError, FileNotFoundError) as exc:
+    except (SceneError, UsageError, FileNotFoundError) as exc:
         print(f"fsi: error: {exc}", file=sys.stderr)
         return 2
 

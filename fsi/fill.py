@@ -1,4 +1,10 @@
-"""The project's fill scale: 0 % = rest shape, 100 % = the fully inverted equilibrium.
+"""The fill scales: the tank fraction, and the thesis's full-inversion scale.
+
+An engineer reads the **tank fraction** phi_tank = V / ((4/3) pi R^3): every frame of every
+result records it (``tank_fraction``), plots and ``fsi compare`` speak it, and the dynamic
+procedures take their fills on it.  A static sweep may instead ask for the thesis's scale
+(``sweep.scale = "full-inversion"``), registered with the tank's in :data:`FILL_SCALES`:
+0 % = rest shape, 100 % = the fully inverted equilibrium.
 
 Levine's App. J divides by the volume of the last frame of the height ramp (the membrane under
 the final equivalent height +1.05 R). We keep that definition but take the *converged*
@@ -32,6 +38,7 @@ from structure.volume import FillScale, liquid_volume, mirrored_rest_position
 
 from .build import Setup
 from .models import hydrostatic_load
+from .registry import SceneError
 
 log = logging.getLogger(__name__)
 
@@ -44,6 +51,27 @@ class FullInversion:
     state: MembraneState
     info: Equilibrium
     mirrored_volume: float
+
+
+def check_reachable(full: FullInversion, scale: FillScale, fills, key: str) -> None:
+    """Refuse fills outside what the membrane can hold, naming ``key``: below its rest shape's
+    volume (the slivers between its facets and the wall: the tank fraction 0 is not a shape)
+    or above the fully inverted membrane's (a membrane clamped a cell below the equator cannot
+    hold more)."""
+    bottom = float(scale.fill(full.scale.empty_volume))
+    top = float(scale.fill(full.scale.full_volume))
+    outside = [f for f in fills if not bottom - 1e-9 <= f <= top + 1e-9]
+    if outside:
+        raise SceneError(f"{key}: fill {outside[0]} is outside what the membrane can hold on "
+                         f"this scale at this grid and support: allowed [{bottom:.4f}, "
+                         f"{top:.4f}] (rest shape to full inversion)")
+
+
+FILL_SCALES = {
+    "tank": lambda setup, full: FillScale.tank(setup.model.radius),
+    "full-inversion": lambda setup, full: full.scale,
+}
+"""Scale name -> (setup, :class:`FullInversion`) -> :class:`FillScale` of a static sweep."""
 
 
 def inverted_start(model: MembraneModel) -> np.ndarray:

@@ -1,8 +1,10 @@
 """PNG plots made from ``result.h5`` (never inside a time loop).
 
-* ``cross_section_fill_XXX.png``: the membrane's middle grid line in the y-z plane with the
-  tank wall, as thesis Figs 6.2-6.8 (App. J plots the grid column round(N/2));
-* ``surface_fill_XXX.png``: the 3-D membrane surface;
+* ``cross_section_fill_XXX.png`` (``_tank_XXX`` on the tank-fraction scale; XXX the target
+  in %): the membrane's middle grid line in the y-z plane with the tank wall, as thesis
+  Figs 6.2-6.8 (App. J plots the grid column round(N/2));
+* ``surface_fill_XXX.png``: the 3-D membrane surface; titles give the tank fraction, and on the
+  thesis's scale the fill of the full inversion beside it;
 * ``cross_sections.png``: all fills of a group in one panel (filling and draining side by side);
 * ``coupling.png`` (coupled-fill runs): coupling iterations, pressure level and liquid volume
   per window against time;
@@ -64,19 +66,35 @@ def membrane_plots(res: dict, out: Path) -> list[Path]:
     """Cross-section and surface of every frame, all cross-sections, and the coupling
     history of a coupled run."""
     radius, n = float(res["attrs"]["radius"]), int(res["attrs"]["grid_size"])
+    scale = str(res["attrs"].get("fill_scale", "full-inversion"))
     written = []
     frames = res["frames"]
     for k, pos in enumerate(frames["node_position"]):
-        fill = float(frames["fill_fraction"][k])
-        tag = f"{100 * float(frames['target_fill_fraction'][k]):05.1f}" \
-            if np.isfinite(frames["target_fill_fraction"][k]) else f"{k:03d}"
-        written.append(_cross_section_plot(pos, n, radius, fill,
-                                           out / f"cross_section_fill_{tag}.png"))
-        written.append(_surface_plot(pos, n, radius, fill, out / f"surface_fill_{tag}.png"))
+        label = fill_label(frames, k, scale)
+        target = frames["target_fill_fraction"][k] if "target_fill_fraction" in frames \
+            else np.nan
+        tag = f"{FILE_TAGS.get(scale, 'fill')}_{100 * float(target):05.1f}" \
+            if np.isfinite(target) else f"fill_{k:03d}"
+        written.append(_cross_section_plot(pos, n, radius, label,
+                                           out / f"cross_section_{tag}.png"))
+        written.append(_surface_plot(pos, n, radius, label, out / f"surface_{tag}.png"))
     written.append(_cross_sections_plot(res, n, radius, out / "cross_sections.png"))
     if "windows" in res:
         written.append(_coupling_plot(res, out))
     return written
+
+
+FILE_TAGS = {"full-inversion": "fill", "tank": "tank"}
+"""Fill scale -> the word before the target fill (%) in the names of a frame's plots."""
+
+
+def fill_label(group: dict, k: int, scale: str) -> str:
+    """How a frame's fill is titled: its tank fraction V / (4/3 pi R^3), and on the thesis's
+    scale the fill of the full inversion beside it."""
+    text = f"tank fraction {float(group['tank_fraction'][k]):.3f}"
+    if scale == "full-inversion":
+        text += f" (fill {100 * float(group['fill_fraction'][k]):.1f} % of the full inversion)"
+    return text
 
 
 def _save(fig, path: Path) -> Path:
@@ -85,7 +103,7 @@ def _save(fig, path: Path) -> Path:
     return path
 
 
-def _cross_section_plot(pos, n: int, radius: float, fill: float, path: Path) -> Path:
+def _cross_section_plot(pos, n: int, radius: float, label: str, path: Path) -> Path:
     """The middle grid line in the y-z plane with the tank wall (thesis Figs 6.2-6.8)."""
     col = _middle_column(pos, n)
     fig, ax = plt.subplots(figsize=(6, 5))
@@ -94,11 +112,11 @@ def _cross_section_plot(pos, n: int, radius: float, fill: float, path: Path) -> 
     ax.set_aspect("equal")
     ax.set_xlabel("y (m)")
     ax.set_ylabel("z (m)")
-    ax.set_title(f"Cross section, fill {100 * fill:.1f} %")
+    ax.set_title(f"Cross section, {label}", fontsize=10)
     return _save(fig, path)
 
 
-def _surface_plot(pos, n: int, radius: float, fill: float, path: Path) -> Path:
+def _surface_plot(pos, n: int, radius: float, label: str, path: Path) -> Path:
     """The 3-D membrane surface."""
     g = pos.reshape(n, n, 3)
     fig = plt.figure(figsize=(6, 5))
@@ -109,7 +127,7 @@ def _surface_plot(pos, n: int, radius: float, fill: float, path: Path) -> Path:
     lim = (-radius, radius)
     ax3.set(xlim=lim, ylim=lim, zlim=lim, xlabel="x (m)", ylabel="y (m)", zlabel="z (m)")
     ax3.view_init(elev=25, azim=45)
-    ax3.set_title(f"Membrane, fill {100 * fill:.1f} %")
+    ax3.set_title(f"Membrane, {label}", fontsize=10)
     return _save(fig, path)
 
 
@@ -121,11 +139,12 @@ def _cross_sections_plot(res: dict, n: int, radius: float, path: Path) -> Path:
         _tank(ax, radius)
         cmap = plt.get_cmap("viridis")
         for k, pos in enumerate(res[name]["node_position"]):
-            fill = float(res[name]["fill_fraction"][k])
+            tank = float(res[name]["tank_fraction"][k])
             col = _middle_column(pos, n)
-            ax.plot(col[:, 1], col[:, 2], color=cmap(fill), lw=1.2, label=f"{100 * fill:.0f} %")
+            ax.plot(col[:, 1], col[:, 2], color=cmap(tank), lw=1.2, label=f"{tank:.2f}")
         ax.set_aspect("equal")
-        ax.set_title({"frames": "filling", "drain": "draining"}[name])
+        ax.set_title({"frames": "filling", "drain": "draining"}[name]
+                     + ", by tank fraction V / (4/3 $\\pi$ R$^3$)")
         ax.set_xlabel("y (m)")
         ax.set_ylabel("z (m)")
         ax.legend(fontsize=6, loc="upper right", ncol=2)

@@ -69,6 +69,11 @@ class FillScale:
         return cls(liquid_volume(model, model.node_rest_position),
                    liquid_volume(model, mirrored_rest_position(model)))
 
+    @classmethod
+    def tank(cls, radius: float) -> "FillScale":
+        """The tank fraction V / ((4/3) pi R^3): empty = 0, full = the tank's volume."""
+        return cls(0.0, 4.0 / 3.0 * np.pi * radius**3)
+
     def volume(self, fill_fraction):
         """Liquid volume (m^3) at fill fraction ``fill_fraction`` (-)."""
         return self.empty_volume + np.asarray(fill_fraction) * (self.full_volume - self.empty_volume)

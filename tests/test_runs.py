@@ -197,3 +197,62 @@ def test_progress_eta_counts_from_the_first_work_done():
         assert bar.eta(1100.0, 0.2) == "ETA 13:20"
     finally:
         bar.close()
+
+
+SWEEP = """
+[scene]
+name = "tank-sweep"
+[structure]
+model = "xpbd"
+[membrane]
+grid_size = 10
+[sweep]
+fills = [0.1, 0.3]
+drain = false
+"""
+
+
+def test_static_sweep_speaks_tank_fraction(tmp_path, capsys):
+    """The default sweep.scale is the tank fraction V / (4/3 pi R^3): the frames hold the asked
+    tank fractions, the plots are named by it, fills the membrane cannot hold are refused
+    naming the key, and fsi compare picks and pairs frames by tank fraction."""
+    scene = tmp_path / "sweep.toml"
+    scene.write_text(SWEEP)
+    out = tmp_path / "run"
+    assert main(["run", str(scene), "--out", str(out)]) == 0
+    res = read_result(out)
+    frames = res["frames"]
+    assert res["attrs"]["fill_scale"] == "tank"
+    assert frames["tank_fraction"] == pytest.approx([0.1, 0.3], abs=1e-6)
+    assert np.array_equal(frames["fill_fraction"], frames["tank_fraction"])
+    assert sorted(p.name for p in (out / "plots").glob("cross_section_*.png")) == [
+        "cross_section_tank_010.0.png", "cross_section_tank_030.0.png"]
+    capsys.readouterr()
+    assert main(["compare", str(out), str(out), "--fill", "0.28"]) == 0
+    rows = capsys.readouterr().out.strip().splitlines()[1:]
+    assert len(rows) == 1 and rows[0].split()[:2] == ["0.300", "0.300"]
+    # the thesis's scale on a static result (it carries its full inversion)
+    a = res["attrs"]
+    on_thesis_scale = (frames["liquid_volume"][1] - a["empty_volume"]) / (
+        a["full_volume"] - a["empty_volume"])
+    assert 0.3 < on_thesis_scale < 1.0
+    assert main(["compare", str(out), str(out), "--fill", f"{on_thesis_scale - 0.02:.4f}",
+                 "--scale", "full-inversion"]) == 0
+    assert capsys.readouterr().out.strip().splitlines()[1].split()[0] == "0.300"
+    assert main(["compare", str(out), str(out), "--fill", "7"]) == 2
+    assert "--fill 7.0: a fill is in [0, 1]" in capsys.readouterr().err
+    scene.write_text(SWEEP.replace("fills = [0.1, 0.3]", "fills = [0.1, 0.95]"))
+    assert main(["run", str(scene), "--out", str(tmp_path / "over"), "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert "sweep.fills: fill 0.95 is outside" in err and "allowed [0.0" in err
+
+
+def test_compare_flags_frames_of_different_volumes(ramp_runs, tmp_path, capsys):
+    scene = tmp_path / "sweep.toml"
+    scene.write_text(SWEEP.replace("grid_size = 10", "grid_size = 8")
+                     .replace("fills = [0.1, 0.3]", "fills = [0.1]"))
+    assert main(["run", str(scene), "--out", str(tmp_path / "s"), "--no-plots"]) == 0
+    capsys.readouterr()
+    assert main(["compare", str(tmp_path / "s"), str(ramp_runs[0])]) == 0
+    out = capsys.readouterr().out
+    assert out.strip().splitlines()[1].endswith("*") and "hold different volumes" in out

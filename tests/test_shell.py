@@ -78,7 +78,8 @@ def test_every_model_runs_a_volume_sweep(name):
 
     grid = 20 if name == "thesis" else 10
     scene = parse_scene(f"[structure]\nmodel = '{name}'\n[membrane]\ngrid_size = {grid}\n"
-                        "[sweep]\nfills = [0.0, 0.3]\ndrain = false\n")
+                        "[sweep]\nfills = [0.0, 0.3]\ndrain = false\n"
+                        "scale = 'full-inversion'\n")
     result = PROCEDURES["volume-sweep"](build(scene), lambda f, m: None)
     frames = result.groups["frames"]
     assert result.attrs["structure_model"] == name

@@ -57,7 +57,8 @@ def test_simply_supported_rim_inverts_to_the_mirror_image():
 
 def test_same_sweep_twice_gives_identical_arrays():
     scene = parse_scene("[structure]\nmodel = 'thesis'\n"
-                        "[membrane]\ngrid_size = 10\n[sweep]\nfills = [0.0, 0.3, 0.6]\n")
+                        "[membrane]\ngrid_size = 10\n[sweep]\nfills = [0.0, 0.3, 0.6]\n"
+                        "scale = 'full-inversion'\n")
     runs = [PROCEDURES["volume-sweep"](build(scene), lambda f, m: None) for _ in range(2)]
     for group in ("frames", "drain", "full_inversion"):
         for key in ("node_position", "liquid_volume"):

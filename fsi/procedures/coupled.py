@@ -44,8 +44,7 @@ def _check_motion(motion: dict) -> None:
 
 DYNAMICS = Table({
     "start_fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
-                      "fill at t = 0, on the mirrored scale (liquid volume over the mirrored "
-                      "hemisphere's), static equilibrium"),
+                      "tank fraction V / (4/3 pi R^3) at t = 0, static equilibrium"),
     "window": Key(float, 2e-3, lambda v: 0 < v <= 1, "0 < value <= 1 s",
                   "coupling time window (s)"),
     "end_time": Key(float, 0.2, positive, "> 0 s", "simulated time (s)"),

@@ -1,7 +1,8 @@
 """``coupled-fill``: the diaphragm filled (or drained) through the bottom port, the membrane
 and the liquid's flow coupled in time.
 
-* Start: the membrane's static equilibrium at ``dynamics.start_fill`` under the hydrostatic
+* Start: the membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction
+  V / (4/3 pi R^3); every frame's ``fill_fraction`` is on that scale) under the hydrostatic
   model (XPBD relaxation with the same substep as the dynamics, so the start is at rest).
 * Structure: XPBD windows (:func:`structure.xpbd.step`, plain substeps of
   ``dynamics.substep_fraction`` of the explicit limit), the liquid volume held at what the
@@ -82,11 +83,11 @@ class Coupled:
 
 
 def static_start(setup, model: XpbdModel, settings: XpbdSettings):
-    """The membrane's static equilibrium at ``dynamics.start_fill`` (mirrored scale) under the
+    """The membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction) under the
     hydrostatic liquid, by damped XPBD at the dynamics' substep: (state, Equilibrium)."""
     fill = setup.scene["dynamics"]["start_fill"]
     return static_equilibrium(setup, model, settings,
-                              float(FillScale.mirrored(setup.model).volume(fill)))
+                              float(FillScale.tank(setup.model.radius).volume(fill)))
 
 
 def static_equilibrium(setup, model: XpbdModel, settings: XpbdSettings, volume: float,
@@ -128,7 +129,7 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     membrane = MembraneParticipant(model, start, settings,
                                    lambda t: start_volume + flow.delivered(t), body,
                                    info.pressure_level, membrane_scheme)
-    return Coupled(FillScale.mirrored(setup.model), flow, info, start_volume, fluid,
+    return Coupled(FillScale.tank(setup.model.radius), flow, info, start_volume, fluid,
                    membrane, FluidParticipant(fluid, surface=surface))
 
 
@@ -182,7 +183,7 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
                             warm_start=False,
                             tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
     start, info = static_start(setup, model, settings)
-    run.progress(0, f"static start: fill {dyn['start_fill']:.2f}, level "
+    run.progress(0, f"static start: tank fraction {dyn['start_fill']:.2f}, level "
                     f"{info.pressure_level:.1f} Pa")
     parts = assemble(setup, model, settings, start, info)
     run.record("frames", frame(setup, parts, start, parts.fluid_side.initial_data()[PRESSURE],
@@ -206,7 +207,7 @@ def fill_attrs(setup, parts: Coupled, run: Run, substep: float, n_windows: int) 
         start_fill=dyn["start_fill"], start_pressure_level=parts.start_info.pressure_level,
         start_converged=parts.start_info.converged, start_volume=parts.start_volume,
         empty_volume=parts.scale.empty_volume, full_volume=parts.scale.full_volume,
-        fill_scale="mirrored", fluid_cells=setup.scene["fluid"]["cells"])
+        fill_scale="tank", fluid_cells=setup.scene["fluid"]["cells"])
 
 
 def report(result) -> None:

@@ -8,9 +8,9 @@ import numpy as np
 from structure.statics import strain_error
 from structure.volume import FillScale
 
-from ..fill import FullInversion
+from ..fill import FILL_SCALES, FullInversion
 from ..lifecycle import membrane_frame
-from ..registry import Key, Table, positive
+from ..registry import Key, Table, one_of, positive
 
 
 def _fills(v):
@@ -19,8 +19,14 @@ def _fills(v):
 
 
 SWEEP = Table({
-    "fills": Key(list, [round(0.1 * k, 10) for k in range(11)], _fills,
-                 "non-empty list of numbers in [0, 1]", "fill fractions, in order"),
+    "fills": Key(list, [round(0.1 * k, 10) for k in range(1, 8)], _fills,
+                 "non-empty list of numbers in [0, 1]",
+                 "fills on the sweep.scale, in order (tank: from the rest shape's, 0.003, to "
+                 "the fully inverted membrane's, 0.79, at N = 26 clamped)"),
+    "scale": Key(str, "tank", *one_of(FILL_SCALES),
+                 "scale of sweep.fills: tank (V / (4/3 pi R^3)) or full-inversion (the "
+                 "thesis's App. J: 0 rest shape, 1 the fully inverted equilibrium) "
+                 "(volume-sweep; thesis-ramp picks frames on App. J's last-frame scale)"),
     "drain": Key(bool, True, lambda v: True, "true or false",
                  "after filling, sweep back down the same fills (volume-sweep)"),
     "full_height": Key(float, 1.05, lambda v: 0 < v <= 100, "0 < value <= 100 (x radius)",
@@ -76,9 +82,12 @@ def report_sweep(result) -> None:
         if name not in result.groups:
             continue
         g = result.groups[name]
-        print(f"[{name}]  target   fill    volume(m^3)   h(m)     strain  max-strain  steps  s")
+        print(f"[{name}]  target   fill    tank    volume(m^3)   h(m)     strain  max-strain  "
+              f"steps  s   (fill on the {a.get('fill_scale', 'full-inversion')} scale; tank: "
+              f"V / (4/3 pi R^3))")
         for k in range(len(g["fill_fraction"])):
             print(f"  {g['target_fill_fraction'][k]:8.3f} {g['fill_fraction'][k]:7.4f} "
+                  f"{g['tank_fraction'][k]:7.4f} "
                   f"{g['liquid_volume'][k]:12.6e} {g['equivalent_height'][k]:8.4f} "
                   f"{g['strain_error'][k]:8.5f} {g['strain_max'][k]:8.5f} "
                   f"{int(g['relaxation_steps'][k]):6d} {g['wall_seconds'][k]:6.2f}")

@@ -81,7 +81,8 @@ def thesis_ramp(setup, progress: Progress) -> RunResult:
     history = stack(run.groups["history"])
     groups, attrs = full_inversion_parts(setup, full)
     groups["frames"] = pick_by_volume(history, setup.scene["sweep"]["fills"])
-    return run.result(groups, **attrs, app_j_full_volume=float(history["liquid_volume"][-1]))
+    return run.result(groups, **attrs, app_j_full_volume=float(history["liquid_volume"][-1]),
+                      fill_scale="full-inversion")
 
 
 def pick_by_volume(history: dict, fills) -> dict:

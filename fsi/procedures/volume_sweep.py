@@ -1,7 +1,9 @@
 """``volume-sweep``: the quasi-static fill sweep, volume-controlled.
 
 For each fill phi of ``sweep.fills`` in order, the membrane's equilibrium holding the liquid
-volume V(phi) = V_empty + phi (V_full - V_empty) under the hydrostatic load
+volume V(phi) on ``sweep.scale`` (the tank fraction: V = phi (4/3) pi R^3; the thesis's
+full-inversion scale: V = V_empty + phi (V_full - V_empty), :mod:`fsi.fill`) under the
+hydrostatic load
 p = p_ref + rho b . x, the level p_ref its Lagrange multiplier, by the scene's structure model
 (:mod:`fsi.models`); each fill starts from the previous equilibrium (continuation). With
 ``sweep.drain`` the same fills are then run back down (group ``drain``).
@@ -15,7 +17,7 @@ import numpy as np
 
 from structure.model import MembraneState
 
-from ..fill import full_inversion
+from ..fill import FILL_SCALES, check_reachable, full_inversion
 from ..limits import check_time_step, courant_time_step_limit
 from ..lifecycle import Progress, Run, RunResult
 from ..models import STRUCTURE_MODELS, hydrostatic_load
@@ -30,7 +32,8 @@ def volume_sweep(setup, progress: Progress) -> RunResult:
     ``sweep.drain``."""
     fills = list(setup.scene["sweep"]["fills"])
     full = full_inversion(setup)
-    scale = full.scale
+    scale = FILL_SCALES[setup.scene["sweep"]["scale"]](setup, full)
+    check_reachable(full, scale, fills, "sweep.fills")
     legs = [("frames", fills)] + ([("drain", fills[::-1])] if setup.scene["sweep"]["drain"]
                                   else [])
     run = Run(progress, sum(len(f) for _, f in legs))
@@ -55,7 +58,8 @@ def volume_sweep(setup, progress: Progress) -> RunResult:
                                            info.converged))
             done += 1
             run.progress(done, f"{group} fill {fill:.2f}")
-    return run.result(groups, **attrs, structure_model=setup.structure_model)
+    return run.result(groups, **attrs, structure_model=setup.structure_model,
+                      fill_scale=setup.scene["sweep"]["scale"])
 
 
 def _check_setup(setup) -> None:
