@@ -114,12 +114,13 @@ class CouplingSettings:
 
 @dataclass
 class WindowLog:
-    """One window: index, start time (s), iterations, residuals per iteration ({field: norm}),
-    relaxation per iteration (NaN for quasi-Newton steps), converged flag, and seconds spent in
-    each participant's ``solve_window``."""
+    """One window: index, start time (s), size (s), iterations, residuals per iteration
+    ({field: norm}), relaxation per iteration (NaN for quasi-Newton steps), converged flag,
+    and seconds spent in each participant's ``solve_window``."""
 
     index: int
     time: float
+    size: float = float("nan")
     iterations: int = 0
     residuals: list = field(default_factory=list)
     relaxation: list = field(default_factory=list)
@@ -153,32 +154,72 @@ class _Timed:
 
 
 def run(first: Participant, second: Participant, settings: CouplingSettings, dt: float,
-        n_windows: int, t0: float = 0.0, on_window: Optional[Callable] = None) -> CouplingLog:
+        n_windows: int, t0: float = 0.0, on_window: Optional[Callable] = None,
+        next_window: Optional[Callable] = None) -> CouplingLog:
     """Couple ``first`` and ``second`` over ``n_windows`` windows of ``dt`` (s) from ``t0``.
 
     ``on_window(window_log, data)`` is called after each window with the converged fields of
-    both participants. Returns the :class:`CouplingLog`.
+    both participants. ``next_window(window_log, data)``, when given, returns the next
+    window's size (s), or None to stop (windows of varying size; ``n_windows`` is then the
+    most); if it also has ``retry(window_log)``, a window that raises :class:`CouplingError`
+    is redone from its start (both participants restored) at the size that returns, until it
+    returns None. Returns the :class:`CouplingLog`.
     """
-    if not dt > 0 or not np.isfinite(dt):
-        raise ValueError(f"time-window size dt must be finite and > 0 s, got {dt!r}")
+    _check_window(dt)
     data = {**{k: np.asarray(v, dtype=np.float64) for k, v in first.initial_data().items()},
             **{k: np.asarray(v, dtype=np.float64) for k, v in second.initial_data().items()}}
     acceleration = ACCELERATIONS[settings.acceleration](settings.acceleration_settings)
     iterate = SCHEMES[settings.scheme]
     coupling_log = CouplingLog()
     history = [data]  # converged fields of past windows, newest first
+    t = t0
     for k in range(n_windows):
-        window = WindowLog(index=k, time=t0 + k * dt)
-        data = iterate(first, second, settings, acceleration,
-                       _extrapolate(history, settings.extrapolation_order), window.time, dt,
-                       window)
+        window, data, dt = _window(first, second, settings, acceleration, iterate,
+                                   _extrapolate(history, settings.extrapolation_order), k,
+                                   t0 + k * dt if next_window is None else t, dt,
+                                   getattr(next_window, "retry", None))
         history = [data] + history[:settings.extrapolation_order]
         coupling_log.windows.append(window)
         log.debug("window %d: %d iterations, converged %s", k, window.iterations,
                   window.converged)
         if on_window is not None:
             on_window(window, data)
+        if next_window is not None:
+            t = window.time + dt
+            dt = next_window(window, data)
+            if dt is None:
+                break
+            _check_window(dt)
     return coupling_log
+
+
+def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt, retry):
+    """One window from ``predicted`` fields, redone smaller on a CouplingError while
+    ``retry(window_log)`` gives a size: (window log, converged fields, the size it took)."""
+    checkpoints = (first.store_checkpoint(), second.store_checkpoint())
+    while True:
+        window = WindowLog(index=k, time=t, size=dt)
+        try:
+            return window, iterate(first, second, settings, acceleration, dict(predicted), t, dt,
+                                   window), dt
+        except CouplingError:
+            smaller = retry(window) if retry is not None else None
+            if smaller is None:
+                if retry is not None:
+                    log.warning("window %d (t = %g s) not converged at %g s: not redone", k,
+                                t, dt)
+                raise
+            log.warning("window %d (t = %g s) not converged at %g s: redone at %g s", k, t, dt,
+                        smaller)
+            first.restore_checkpoint(checkpoints[0])
+            second.restore_checkpoint(checkpoints[1])
+            _check_window(smaller)
+            dt = smaller
+
+
+def _check_window(dt: float) -> None:
+    if not dt > 0 or not np.isfinite(dt):
+        raise ValueError(f"time-window size dt must be finite and > 0 s, got {dt!r}")
 
 
 def _extrapolate(history: list, order: int) -> dict:

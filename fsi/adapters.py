@@ -10,6 +10,8 @@ ports have delivered and its multiplier is the level (``MembraneParticipant.leve
 """
 from __future__ import annotations
 
+import logging
+from dataclasses import replace
 from typing import Callable
 
 import numpy as np
@@ -18,11 +20,13 @@ from fluid.interface import Interface, is_closed
 from fluid.solver import FluidSolver
 from structure.load import Load
 from structure.model import MembraneState
-from structure.xpbd import WINDOW_SCHEMES, XpbdModel, XpbdSettings
+from structure.xpbd import WINDOW_SCHEMES, XpbdDivergence, XpbdModel, XpbdSettings
 
 POINTS = "interface_points"
 VELOCITIES = "interface_velocities"
 PRESSURE = "interface_pressure"
+
+log = logging.getLogger(__name__)
 
 
 class FluidParticipant:
@@ -139,16 +143,30 @@ class MembraneParticipant:
     liquid volume from its value at the window's start to ``volume(t + dt)``, and the uniform
     pressure level (Pa) that holds it is :attr:`level` afterwards. ``body_acceleration``:
     (3,) m/s^2 or a function of time returning it (tank frame). ``scheme``: the window's
-    time scheme, a name in :data:`structure.xpbd.WINDOW_SCHEMES` ('substeps' or 'bdf2', which
-    reads the state one window back: kept here and in the checkpoints).
+    time scheme, a name in :data:`structure.xpbd.WINDOW_SCHEMES` ('substeps', 'bdf2', which
+    reads the state one window back: kept here and in the checkpoints, or 'quasi-static').
+    ``liquid_density`` (kg/m^3): the liquid's pressure received at the points last sent is
+    moved with each node along the hydrostatic gradient, p(x) = p + rho b . (x - x_sent), a
+    field the membrane's solver evaluates where the node is (the quasi-static scheme does so
+    every substep: the hydrostatic stiffness then lives in the membrane's solve, not in the
+    coupling iteration); None: the received values as they are.
+
+    Under 'quasi-static', a window whose equilibrium is not reached in
+    QUASI_STATIC_MAX_SUBSTEPS substeps (a fold snapping: no equilibrium near the last one),
+    or one redone after its coupling failed (:meth:`with_inertia`), is done with the
+    membrane's inertia instead ('substeps'), every iteration of it; its start time is in
+    :attr:`dynamic_windows`.
     """
+
+    QUASI_STATIC_MAX_SUBSTEPS = 5000
+    SETTLED_SPEED = 1e-3  # m/s: after an inertial window, quasi-static again below this
 
     name = "structure"
     write_fields = (POINTS, VELOCITIES)
 
     def __init__(self, model: XpbdModel, state: MembraneState, settings: XpbdSettings,
                  volume: Callable[[float], float], body_acceleration, level: float = 0.0,
-                 scheme: str = "substeps"):
+                 scheme: str = "substeps", liquid_density: float | None = None):
         if scheme not in WINDOW_SCHEMES:
             raise ValueError(f"unknown membrane window scheme {scheme!r}; allowed: "
                              f"{sorted(WINDOW_SCHEMES)}")
@@ -159,28 +177,79 @@ class MembraneParticipant:
         self.body_acceleration = body_acceleration
         self.level = float(level)
         self.scheme = scheme
+        self.liquid_density = liquid_density
         self.history: tuple[MembraneState, float] | None = None
+        self.sent = self.state.node_position.copy()
+        self.dynamic_windows: list[float] = []
+        self._inertial_end = np.nan  # end time (s) of the last window done with inertia
 
     def _body(self, time: float) -> np.ndarray:
         b = self.body_acceleration
         return np.asarray(b(time) if callable(b) else b, dtype=float)
 
     def _fields(self) -> dict:
+        self.sent = self.state.node_position.copy()
         return {POINTS: self.state.node_position.ravel().copy(),
                 VELOCITIES: self.state.node_velocity.ravel().copy()}
 
     def initial_data(self) -> dict:
         return self._fields()
 
+    def _pressure(self, received: np.ndarray, body: np.ndarray):
+        """The node pressure (n,) Pa, or with ``liquid_density`` the field x -> (n,) Pa."""
+        if self.liquid_density is None:
+            return received
+        rho, sent = self.liquid_density, self.sent.copy()
+        return lambda x: received + rho * (x - sent) @ body
+
     def solve_window(self, time: float, dt: float, data_in) -> dict:
-        load = Load(np.asarray(data_in[PRESSURE], dtype=float), self._body(time + dt),
-                    volume_target=float(self.volume(time + dt)))
+        body = self._body(time + dt)
+        received = np.asarray(data_in[PRESSURE], dtype=float)
         start = self.state
-        self.state, info = WINDOW_SCHEMES[self.scheme](self.model, start, load, dt,
-                                                       self.settings, self.history)
+        self.state, info = self._step(start, received, body, time, dt)
         self.history = (start, dt)
         self.level = info.pressure_level
         return self._fields()
+
+    def with_inertia(self, time: float) -> None:
+        """The window starting at ``time`` (s) is done with the membrane's inertia."""
+        if time not in self.dynamic_windows:
+            self.dynamic_windows.append(time)
+
+    def _inertial(self, start: MembraneState, time: float) -> bool:
+        """Whether the window from ``time`` keeps the membrane's inertia: not quasi-static,
+        marked so, or following an inertial window while the membrane still moves faster
+        than SETTLED_SPEED."""
+        if self.scheme != "quasi-static" or time in self.dynamic_windows:
+            return True
+        previous = time == self._inertial_end
+        speed = float(np.linalg.norm(start.node_velocity, axis=1).max())
+        if previous and speed > self.SETTLED_SPEED:
+            self.with_inertia(time)
+            return True
+        return False
+
+    def _step(self, start: MembraneState, received: np.ndarray, body: np.ndarray,
+              time: float, dt: float):
+        """The window by :attr:`scheme`, or with inertia where a quasi-static one fails
+        (the received pressure as it is: the hydrostatic field is the quasi-static's)."""
+        target = float(self.volume(time + dt))
+        if self._inertial(start, time):
+            self._inertial_end = time + dt
+            scheme = self.scheme if self.scheme != "quasi-static" else "substeps"
+            return WINDOW_SCHEMES[scheme](self.model, start,
+                                          Load(received, body, volume_target=target), dt,
+                                          self.settings, self.history)
+        load = Load(self._pressure(received, body), body, volume_target=target,
+                    pressure_level=self.level)
+        try:
+            return WINDOW_SCHEMES["quasi-static"](
+                self.model, start, load, dt,
+                replace(self.settings, max_steps=self.QUASI_STATIC_MAX_SUBSTEPS), self.history)
+        except XpbdDivergence as err:
+            log.info("window from t = %g s: %s; done with the membrane's inertia", time, err)
+            self.with_inertia(time)
+            return self._step(start, received, body, time, dt)
 
     def store_checkpoint(self):
         return self.state.copy(), self.level, self.history

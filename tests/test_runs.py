@@ -256,3 +256,62 @@ def test_compare_flags_frames_of_different_volumes(ramp_runs, tmp_path, capsys):
     assert main(["compare", str(tmp_path / "s"), str(ramp_runs[0])]) == 0
     out = capsys.readouterr().out
     assert out.strip().splitlines()[1].endswith("*") and "hold different volumes" in out
+
+
+SLOW_FILL = """
+[scene]
+name = "slow-fill"
+procedure = "coupled-fill"
+[membrane]
+grid_size = 14
+support = "simply-supported"
+[dynamics]
+start_fill = 0.1
+window = 0.05
+window_tolerance = 1e-4
+max_window = 1.0
+end_time = 10.0
+frame_interval = 100
+[port]
+flow = 2.0e-5
+[coupling]
+time_scheme = "quasi-static"
+"""
+
+
+def test_slow_quasi_static_fill_follows_the_static_path(tmp_path):
+    """At 2e-5 m^3/s the liquid's dynamic pressure is negligible (rho v^2 / 2 ~ 1e-6 Pa in the
+    port): the coupled run's level must equal the static equilibrium's at the same volume
+    (warm-started XPBD from the same start), its windows must grow from 0.05 s to the 1 s cap,
+    and the membrane's volume must follow the port's delivered volume to round-off."""
+    from dataclasses import replace as dc_replace
+
+    from fsi.build import build
+    from fsi.procedures.coupled import window_substep
+    from fsi.procedures.coupled_fill import (START_MAX_STEPS, START_TOLERANCE,
+                                             static_equilibrium, static_start)
+    from fsi.scene import parse_scene
+    from structure.volume import liquid_volume
+    from structure.xpbd import XpbdModel, XpbdSettings
+
+    scene = tmp_path / "slow.toml"
+    scene.write_text(SLOW_FILL)
+    assert main(["run", str(scene), "--out", str(tmp_path / "run"), "--no-plots"]) == 0
+    res = read_result(tmp_path / "run")
+    w = res["windows"]
+    assert w["window_size"][0] == 0.05 and 0.9 < w["window_size"].max() <= 1.0
+    assert w["time"][-1] == pytest.approx(10.0, rel=1e-12)
+    assert np.all(w["converged"]) and res["attrs"]["windows_over_tolerance"] == 0
+    start_volume = res["attrs"]["start_volume"]
+    assert w["liquid_volume"] - start_volume == pytest.approx(w["delivered_volume"], rel=1e-9,
+                                                              abs=1e-12)
+    setup = build(parse_scene(SLOW_FILL))
+    model = XpbdModel.from_membrane(setup.model)
+    settings = XpbdSettings(dt=window_substep(setup, 0.05, 0.3), warm_start=False,
+                            tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
+    state, info = static_start(setup, model, settings)
+    assert liquid_volume(setup.model, state.node_position) == pytest.approx(start_volume)
+    for k in (len(w["time"]) // 2, len(w["time"]) - 1):
+        state, info = static_equilibrium(setup, model, dc_replace(settings, warm_start=True),
+                                         start_volume + w["delivered_volume"][k], state)
+        assert w["pressure_level"][k] == pytest.approx(info.pressure_level, abs=0.5)

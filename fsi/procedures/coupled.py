@@ -30,7 +30,8 @@ MAX_WINDOWS = 1e6
 
 
 def _check_dynamics(dyn: dict) -> None:
-    windows = dyn["end_time"] / dyn["window"]
+    windows = dyn["end_time"] / (dyn["max_window"] if dyn["window_tolerance"] > 0
+                                 else dyn["window"])
     if windows > MAX_WINDOWS:
         raise SceneError(f"scene key 'dynamics.window' = {dyn['window']!r}: end_time/window = "
                          f"{windows:.3g} windows; allowed at most {short_number(MAX_WINDOWS)}")
@@ -46,7 +47,13 @@ DYNAMICS = Table({
     "start_fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
                       "tank fraction V / (4/3 pi R^3) at t = 0, static equilibrium"),
     "window": Key(float, 2e-3, lambda v: 0 < v <= 1, "0 < value <= 1 s",
-                  "coupling time window (s)"),
+                  "coupling time window (s); the first one with window_tolerance"),
+    "window_tolerance": Key(float, 0.0, lambda v: v >= 0, ">= 0 m",
+                            "0: fixed windows; > 0: windows grow and shrink so that the local "
+                            "error of the membrane's node positions per window stays near it "
+                            "(m; README, 'Dynamic fill')"),
+    "max_window": Key(float, 1.0, lambda v: 0 < v <= 100, "0 < value <= 100 s",
+                      "largest window with window_tolerance (s)"),
     "end_time": Key(float, 0.2, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 5, lambda v: v >= 1, ">= 1",
                           "windows between recorded frames"),
@@ -84,7 +91,8 @@ PORT = Table({
 })
 """[port]: the bottom port and its stub."""
 
-WINDOW_TIME_SCHEMES = {"euler": ("euler", "substeps"), "bdf2": ("bdf2", "bdf2")}
+WINDOW_TIME_SCHEMES = {"euler": ("euler", "substeps"), "bdf2": ("bdf2", "bdf2"),
+                       "quasi-static": ("euler", "quasi-static")}
 """``coupling.time_scheme`` -> (the liquid's :data:`fluid.time_schemes.TIME_SCHEMES` name, the
 membrane's :data:`structure.xpbd.WINDOW_SCHEMES` name): the two halves of one time scheme."""
 
@@ -104,7 +112,9 @@ COUPLING = Table({
                        "substeps under the window's end pressure: first order, damps a mode "
                        "at about omega dt / 2) or bdf2 (liquid and membrane one BDF2 step, "
                        "every force at the window's end: second order; README, 'Slosh with "
-                       "the diaphragm')"),
+                       "the diaphragm') or quasi-static (liquid backward Euler, the membrane in "
+                       "equilibrium at each window's end, no inertia: slow fills with long "
+                       "windows; README, 'Dynamic fill')"),
     "acceleration": Key(str, "iqn-ils", *one_of(sorted(ACCELERATIONS)),
                         "acceleration of the interface pressure"),
     "relaxation": Key(float, 0.01, lambda v: 0 < v <= 1, "0 < value <= 1",

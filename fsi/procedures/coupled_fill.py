@@ -24,7 +24,7 @@ Groups written: ``frames`` (every ``dynamics.frame_interval`` windows and t = 0)
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -42,8 +42,9 @@ from ..lifecycle import Progress, Run, RunResult, membrane_frame
 from ..models import hydrostatic_load
 from ..motion import body_acceleration
 from ..registry import Procedure, register_procedure
-from .coupled import (COUPLED_TABLES, WINDOW_TIME_SCHEMES, check_port, coupling_settings,
-                      window_substep)
+from ..window_control import END_TOLERANCE, WindowController
+from .coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES, check_port,
+                      coupling_settings, window_substep)
 
 log = logging.getLogger(__name__)
 
@@ -86,8 +87,13 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     """The membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction) under the
     hydrostatic liquid, by damped XPBD at the dynamics' substep: (state, Equilibrium)."""
     fill = setup.scene["dynamics"]["start_fill"]
-    return static_equilibrium(setup, model, settings,
-                              float(FillScale.tank(setup.model.radius).volume(fill)))
+    volume = float(FillScale.tank(setup.model.radius).volume(fill))
+    start, info = static_equilibrium(setup, model, settings, volume)
+    if WINDOW_TIME_SCHEMES[setup.scene["coupling"]["time_scheme"]][1] == "quasi-static":
+        # the windows find exact equilibria (warm-started XPBD): so must the start
+        start, info = static_equilibrium(setup, model, replace(settings, warm_start=True),
+                                         volume, start)
+    return start, info
 
 
 def static_equilibrium(setup, model: XpbdModel, settings: XpbdSettings, volume: float,
@@ -128,7 +134,9 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     start_volume = liquid_volume(setup.model, start.node_position)
     membrane = MembraneParticipant(model, start, settings,
                                    lambda t: start_volume + flow.delivered(t), body,
-                                   info.pressure_level, membrane_scheme)
+                                   info.pressure_level, membrane_scheme,
+                                   liquid_density=liquid.density
+                                   if membrane_scheme == "quasi-static" else None)
     return Coupled(FillScale.tank(setup.model.radius), flow, info, start_volume, fluid,
                    membrane, FluidParticipant(fluid, surface=surface))
 
@@ -145,17 +153,21 @@ def frame(setup, parts: Coupled, state, pressure, level, t, seconds, converged) 
                 wall_seconds=float(seconds), converged=bool(converged))
 
 
-def window_recorder(setup, parts: Coupled, run: Run):
+def window_recorder(setup, parts: Coupled, run: Run, controller=None):
     """on_window(window log, data) of :func:`coupling.run`: a ``windows`` record every
-    window, a frame when one is due, progress."""
-    window = setup.scene["dynamics"]["window"]
+    window (with its size and, under ``controller``, its local error), a frame when one is
+    due, progress by simulated time."""
+    dyn = setup.scene["dynamics"]
     membrane, fluid = parts.membrane, parts.fluid
 
     def record(w, data):
-        t = (w.index + 1) * window
+        t = (w.index + 1) * w.size if controller is None else w.time + w.size
         last = w.residuals[-1] if w.residuals else {}
+        error = controller.errors[-1] if controller is not None and controller.errors \
+            else np.nan
         run.record("windows", dict(
-            time=t, coupling_iterations=w.iterations, converged=w.converged,
+            time=t, window_size=w.size, window_error=error,
+            coupling_iterations=w.iterations, converged=w.converged,
             residual_pressure=float(last.get(PRESSURE, np.nan)),
             residual_points=float(last.get(POINTS, np.nan)),
             seconds_structure=float(w.seconds.get(membrane.name, 0.0)),
@@ -164,11 +176,13 @@ def window_recorder(setup, parts: Coupled, run: Run):
             liquid_volume=liquid_volume(setup.model, membrane.state.node_position),
             fluid_liquid_volume=fluid.liquid_volume, port_flow=parts.flow(t),
             delivered_volume=parts.flow.delivered(t)))
-        if run.frame_due(w.index + 1):
+        done = t >= dyn["end_time"] * (1 - END_TOLERANCE)
+        if (w.index + 1) % dyn["frame_interval"] == 0 or done:
             run.record("frames", frame(setup, parts, membrane.state, data[PRESSURE],
                                        membrane.level, t, run.elapsed(), w.converged))
-        run.progress(w.index + 1, f"t = {t:.4f} s, {w.iterations} it, level "
-                                  f"{membrane.level:.1f} Pa")
+        run.progress(run.total * min(t / dyn["end_time"], 1.0),
+                     f"t = {t:.4f} s, window {w.size:.3g} s, {w.iterations} it, level "
+                     f"{membrane.level:.1f} Pa")
 
     return record
 
@@ -188,12 +202,26 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     parts = assemble(setup, model, settings, start, info)
     run.record("frames", frame(setup, parts, start, parts.fluid_side.initial_data()[PRESSURE],
                                info.pressure_level, 0.0, run.elapsed(), info.converged))
+    controller = None
+    if dyn["window_tolerance"] > 0:
+        controller = WindowController(dyn["window_tolerance"], dyn["max_window"],
+                                      dyn["end_time"], POINTS, start.node_position,
+                                      on_retry=lambda w: parts.membrane.with_inertia(w.time))
+        n_windows = int(MAX_WINDOWS)
     try:
         couple(parts.membrane, parts.fluid_side, coupling_settings(setup.scene["coupling"]),
-               dyn["window"], n_windows, on_window=window_recorder(setup, parts, run))
+               dyn["window"], n_windows, on_window=window_recorder(setup, parts, run,
+                                                                   controller),
+               next_window=controller)
     except (CouplingError, XpbdDivergence) as err:
         run.stop(str(err))
-    return run.result(**fill_attrs(setup, parts, run, settings.dt, n_windows))
+    attrs = fill_attrs(setup, parts, run, settings.dt, n_windows if controller is None
+                       else len(run.groups.get("windows", [])))
+    if controller is not None:
+        attrs["windows_over_tolerance"] = controller.over_tolerance
+        attrs["windows_redone"] = controller.redone
+    attrs["windows_with_inertia"] = len(parts.membrane.dynamic_windows)
+    return run.result(**attrs)
 
 
 def fill_attrs(setup, parts: Coupled, run: Run, substep: float, n_windows: int) -> dict:

@@ -1,8 +1,12 @@
 """Dynamic XPBD: one time window of a coupled run, the membrane's inertia kept. Two window
 schemes (:data:`WINDOW_SCHEMES`): ``substeps`` (:func:`step`: plain substeps, the stiffness
 bias ~ dt^2 of unconverged sweeps sets the substep, :mod:`structure.xpbd`) and ``bdf2``
-(:func:`bdf2_step`: the window as one implicit BDF2 step, its sweeps converged)."""
+(:func:`bdf2_step`: the window as one implicit BDF2 step, its sweeps converged) and
+``quasi-static`` (:func:`quasi_static_step`: the window's end in equilibrium, no inertia)."""
 from __future__ import annotations
+
+import copy
+from dataclasses import replace
 
 import numpy as np
 
@@ -11,6 +15,7 @@ from ..model import MembraneState
 from ..volume import liquid_volume
 from .model import XpbdDivergence, XpbdModel, XpbdMultipliers, XpbdSettings, XpbdState, \
     node_external_force
+from .statics import solve_equilibrium
 from .substep import substep
 
 
@@ -126,10 +131,40 @@ def bdf2_step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
     return XpbdState(x, v, multipliers=None), StepInfo(1, float(level))
 
 
+def quasi_static_step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
+                      settings: XpbdSettings, history=None) -> tuple[XpbdState, StepInfo]:
+    """The window's end as the membrane's static equilibrium under ``load``, its inertia
+    dropped: warm-started quasi-static XPBD substeps of ``settings.dt``
+    (:func:`structure.xpbd.solve_equilibrium`, ``settings.tolerance`` and ``max_steps``) from
+    the window's start, the multipliers carried from the last window.  The load's field is
+    evaluated at every substep, so a position-dependent part (the hydrostatic pressure) acts
+    implicitly.  Velocities are the window's mean, (x_end - x_start) / dt, what a liquid
+    sees of the moving wall.
+
+    Where it holds: fills slow against the membrane's own periods (the membrane's kinetic
+    energy negligible), where a window many times the explicit limit is wanted; the liquid
+    keeps its inertia (README, 'Dynamic fill').  Raises :class:`XpbdDivergence` when the
+    substeps do not reach the equilibrium."""
+    if not dt > 0:
+        raise ValueError(f"xpbd window duration must be > 0 s, got {dt!r}")
+    start = np.array(state.node_position, dtype=float)
+    lam = getattr(state, "multipliers", None)
+    warm = XpbdState(start, np.zeros_like(start),
+                     multipliers=None if lam is None else copy.deepcopy(lam))
+    s = replace(settings, warm_start=True, kinetic_damping=False, ramp_rate=1.0)
+    end, info = solve_equilibrium(model, warm, load, s)
+    if not info.converged:
+        raise XpbdDivergence(f"xpbd quasi-static window: no equilibrium after {info.steps} "
+                             f"substeps of {s.dt:g} s (move ratio {info.move_ratio:.2e})")
+    velocity = (end.node_position - start) / dt
+    return XpbdState(end.node_position, velocity, multipliers=end.multipliers), \
+        StepInfo(info.steps, info.pressure_level)
+
+
 def _substeps(model, state, load, dt, settings, history=None):
     return step(model, state, load, dt, settings)
 
 
-WINDOW_SCHEMES = {"substeps": _substeps, "bdf2": bdf2_step}
+WINDOW_SCHEMES = {"substeps": _substeps, "bdf2": bdf2_step, "quasi-static": quasi_static_step}
 """name -> ``f(model, state, load, dt, settings, history)`` -> (state, StepInfo); ``history``
 is (the state one window back, that window's dt in s) or None."""
