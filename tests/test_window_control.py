@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from coupling import CouplingError, run
-from fsi.window_control import GROW, RETRIES, SHRINK, WindowController, local_error
+from fsi.window_control import (GROW, RETRIES, RETRY_FACTOR, SHRINK, WindowController,
+                                local_error)
 from tests.test_coupling import _pair, _settings
 
 
@@ -64,10 +65,10 @@ def test_controller_shrinks_at_a_snap_and_caps_the_window():
     assert c.over_tolerance >= 1 and sizes[k + 1] == pytest.approx(SHRINK * sizes[k])
 
 
-def test_controller_retries_halve_then_give_up():
+def test_controller_retries_shrink_then_give_up():
     c = WindowController(1e-4, 1.0, 10.0, "p", np.zeros((1, 3)))
-    sizes = [c.retry(Window(0.0, 0.4 / 2**k)) for k in range(RETRIES)]
-    assert sizes == pytest.approx([0.2 / 2**k for k in range(RETRIES)])
+    sizes = [c.retry(Window(0.0, 0.4 * RETRY_FACTOR**k)) for k in range(RETRIES)]
+    assert sizes == pytest.approx([0.4 * RETRY_FACTOR**(k + 1) for k in range(RETRIES)])
     assert c.retry(Window(0.0, 0.1)) is None and c.redone == RETRIES
 
 
@@ -87,7 +88,7 @@ def test_coupling_redoes_a_window_that_does_not_converge_from_its_start():
 
         def retry(self, window):
             self.retries.append(window.size)
-            return window.size / 2
+            return window.size / 2  # this test's own rule
 
     original = s.solve_window
 
