@@ -71,6 +71,10 @@ class Acceleration:
     def start_window(self) -> None:
         """Called before the first iteration of a window."""
 
+    def forget(self) -> None:
+        """Drop what past windows taught (called before a failed window is redone: the
+        operator that failed it need not be theirs)."""
+
     def converged(self, x: np.ndarray, x_tilde: np.ndarray) -> None:
         """Called, before :meth:`end_window`, with the input and output of the iteration in
         which the window converged (no update follows); not called when it converges in its
@@ -130,6 +134,9 @@ class IQNILS(Acceleration):
     def start_window(self):
         self.window_v, self.window_w = [], []
         self.previous = None
+
+    def forget(self):
+        self.past = []
 
     def end_window(self):
         if self.s.reuse > 0 and self.window_v:
@@ -203,6 +210,10 @@ class IQNIMVJ(IQNILS):
     def __init__(self, settings):
         super().__init__(settings)
         self.jacobian = None  # (n, n) inverse Jacobian of the previous window
+
+    def forget(self):
+        super().forget()
+        self.jacobian = None
 
     def end_window(self):
         if self.window_v:

@@ -162,8 +162,8 @@ def run(first: Participant, second: Participant, settings: CouplingSettings, dt:
     both participants. ``next_window(window_log, data)``, when given, returns the next
     window's size (s), or None to stop (windows of varying size; ``n_windows`` is then the
     most); if it also has ``retry(window_log)``, a window that raises :class:`CouplingError`
-    is redone from its start (both participants restored) at the size that returns, until it
-    returns None. Returns the :class:`CouplingLog`.
+    is redone from its start (both participants restored, the acceleration's memory of past
+    windows dropped) at the size that returns, until it returns None. Returns the :class:`CouplingLog`.
     """
     _check_window(dt)
     data = {**{k: np.asarray(v, dtype=np.float64) for k, v in first.initial_data().items()},
@@ -213,6 +213,7 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
                         smaller)
             first.restore_checkpoint(checkpoints[0])
             second.restore_checkpoint(checkpoints[1])
+            acceleration.forget()
             _check_window(smaller)
             dt = smaller
 
