@@ -16,8 +16,9 @@ membrane's stiffness adds k dt^2 to m for each mode; its lateral n = 1 mode has 
 
 Measured: for each omega, whether every window converges within ``--max-iterations`` (and the
 mean iterations), or the last pressure residual stays below 1 (not converged: slow), or not
-(diverged); the largest converging and smallest diverging omega; the explicit scheme over ``--explicit-windows``
-windows (finite or not, the largest node speed); Aitken and IQN-ILS iterations per window.
+(diverged); the largest converging and smallest diverging omega; the explicit scheme over
+``--explicit-windows`` windows (its largest node speed against the implicit run's); Aitken and
+IQN-ILS iterations per window.
 Writes ``benchmarks/output/diaphragm_stability.json`` and ``.png``; prints one JSON object.
 Default run: about 1 min on 2 cores.
 """

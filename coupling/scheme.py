@@ -163,7 +163,8 @@ def run(first: Participant, second: Participant, settings: CouplingSettings, dt:
     window's size (s), or None to stop (windows of varying size; ``n_windows`` is then the
     most); if it also has ``retry(window_log)``, a window that raises :class:`CouplingError`
     is redone from its start (both participants restored, the acceleration's memory of past
-    windows dropped) at the size that returns, until it returns None. Returns the :class:`CouplingLog`.
+    windows dropped) at the size that returns, until it returns None.
+    Returns the :class:`CouplingLog`.
     """
     _check_window(dt)
     data = {**{k: np.asarray(v, dtype=np.float64) for k, v in first.initial_data().items()},

@@ -231,7 +231,8 @@ def plate_plots(res: dict, out: Path) -> list[Path]:
     t, radius = float(a["thickness"]), float(a["flat_radius"])
     names = _estimate_names(g)
     written = []
-    for scaled, path in ((False, "plate_profiles.png"), (True, "plate_profiles_nondimensional.png")):
+    for scaled, path in ((False, "plate_profiles.png"),
+                         (True, "plate_profiles_nondimensional.png")):
         fig, ax = plt.subplots(figsize=(7, 4.5))
         top = 0.0
         for k, fill in enumerate(g["tank_fraction"]):
