@@ -93,3 +93,17 @@ def test_structure_model_key():
         parse_scene("[structure]\nmodel = 'ansys'")
     assert build(parse_scene("[scene]\nprocedure = 'thesis-ramp'\n[membrane]\ngrid_size = 6")
                  ).structure_model == "thesis"
+
+
+@pytest.mark.parametrize("name", ["thesis-fill", "thesis-drain"])
+def test_benchmark_scenes_validate_and_build(name):
+    """The thesis's fill and drain (benchmarks/scenes, not bundled: README, 'Slow fills')."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent.parent / "benchmarks" / "scenes" / f"{name}.toml"
+    setup = build(load_scene(str(path)))
+    dyn = setup.scene["dynamics"]
+    tank = 4.0 / 3.0 * 3.141592653589793 * setup.model.radius**3
+    flow, ramp = setup.scene["port"]["flow"], setup.scene["port"]["ramp_time"]
+    end_fill = dyn["start_fill"] + flow * (dyn["end_time"] - ramp / 2) / tank
+    assert end_fill == pytest.approx(0.9 if flow > 0 else 0.1, abs=1e-6)
