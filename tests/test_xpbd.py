@@ -128,3 +128,32 @@ def test_window_step_composes_and_follows_the_volume_line(half_full):
     assert abs(liquid_volume(model.base, one.node_position) - (v0 + dv)) < 0.01 * dv
     with pytest.raises(ValueError, match="duration"):
         step(model, state, Load(p, g), 0.0, settings)
+
+
+def test_quasi_static_window_ends_in_the_static_equilibrium(half_full):
+    """The quasi-static window is the warm-started static solve from the window's start: its
+    end equals solve_equilibrium's (same settings), its level is the multiplier there, its
+    velocities the window's mean; too few substeps raise XpbdDivergence."""
+    import copy
+    from dataclasses import replace
+
+    from structure.xpbd import XpbdDivergence, quasi_static_step
+
+    model, liquid, settings, state, _ = half_full
+    x = state.node_position
+    v0 = liquid_volume(model.base, x)
+    load = Load(liquid.pressure, liquid.body_acceleration, volume_target=v0 * (1 + 1e-3))
+    quasi = replace(settings, tolerance=1e-8)
+    out, info = quasi_static_step(model, state, load, 0.5, quasi)
+    fresh = replace(state, multipliers=copy.deepcopy(state.multipliers))  # fixture untouched
+    static, eq = solve_equilibrium(model, fresh, load,
+                                   replace(quasi, warm_start=True, kinetic_damping=False,
+                                           ramp_rate=1.0))
+    assert eq.converged and info.substeps == eq.steps
+    assert np.array_equal(out.node_position, static.node_position)
+    assert info.pressure_level == eq.pressure_level
+    assert np.allclose(out.node_velocity, (out.node_position - x) / 0.5, rtol=0, atol=1e-15)
+    assert liquid_volume(model.base, out.node_position) == pytest.approx(v0 * (1 + 1e-3),
+                                                                         rel=1e-9)
+    with pytest.raises(XpbdDivergence, match="no equilibrium"):
+        quasi_static_step(model, state, load, 0.5, replace(quasi, max_steps=3))

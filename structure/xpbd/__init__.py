@@ -42,12 +42,14 @@ every force at the window's end, the partner of a liquid collocated there (secon
 
 Layout: :mod:`.model` (fixed data, settings, state, multipliers), :mod:`.kernels` (numba
 constraint sweeps), :mod:`.substep` (one substep), :mod:`.statics`
-(:func:`solve_equilibrium`), :mod:`.dynamics` (:func:`step`).
+(:func:`solve_equilibrium`), :mod:`.dynamics` (:func:`step`, :func:`bdf2_step`,
+:func:`quasi_static_step`).
 """
-from .dynamics import WINDOW_SCHEMES, bdf2_step, step
+from .dynamics import WINDOW_SCHEMES, bdf2_step, quasi_static_step, step
 from .model import (XpbdDivergence, XpbdModel, XpbdMultipliers, XpbdSettings, XpbdState,
                     node_external_force)
 from .statics import solve_equilibrium
 
 __all__ = ["XpbdDivergence", "XpbdModel", "XpbdMultipliers", "XpbdSettings", "XpbdState",
-           "node_external_force", "solve_equilibrium", "step", "bdf2_step", "WINDOW_SCHEMES"]
+           "node_external_force", "solve_equilibrium", "step", "bdf2_step",
+           "quasi_static_step", "WINDOW_SCHEMES"]
