@@ -16,15 +16,20 @@ at the scene's values (N = 14, 16^3 cells, 2 ms windows, pressure tolerance 1e-4
   is 646 Pa against 526 Pa at 0.667 ms);
 * coupling tolerance (relative pressure change per iteration) 1e-3, 1e-4, 1e-5.
 
-(The fluid grid 16^3, 24^3, 32^3 is ``benchmarks/coupled_fill.py``.)  Reported at the end
+* fluid grid 16^3, 24^3, 32^3 cells.
+
+Reported at the end
 time: the pressure level (Pa), the liquid's centre of mass (m) and the shape, by Eqn 6.1 (%)
 against the finest member of each family (the membrane grids are compared on the finest
 grid's nodes by interpolation, as Eqn 6.1 does); the observed order p solving
 (f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p) for the three sizes h (window;
-tolerance; grid spacing 1 / (N - 1)), and for the shape, whose errors are against the finest,
+tolerance; grid spacing 1 / (N - 1) or 1 / cells), and for the shape, whose errors are against the finest,
 e1 / e2 = (h1^p - h3^p) / (h2^p - h3^p); seconds per run.
-Writes ``benchmarks/output/coupled_convergence.json`` and ``.png``; prints one JSON object.
-Default run: about 40 s on 2 cores.
+The speed-against-accuracy chart (``coupled_speed_accuracy.png``): every run's wall seconds
+against its shape error (Eqn 6.1 against its family's finest), beside the anchor, the thesis's
+Fluent-Transient Structural model: 4+ weeks, never finished (``THESIS_FSI_SECONDS``).
+Writes ``benchmarks/output/coupled_convergence.json`` and the two PNGs; prints one JSON object.
+Default run: about 1.5 min on 2 cores.
 """
 from __future__ import annotations
 
@@ -46,7 +51,10 @@ from fsi.scene import load_scene
 from structure.volume import liquid_first_moment, liquid_volume
 
 OUTPUT = Path(__file__).resolve().parent / "output"
+THESIS_FSI_SECONDS = 4 * 7 * 24 * 3600.0
+"""The thesis's coupled Fluent-Transient Structural run: 4+ weeks, not finished (s)."""
 FAMILIES = {
+    "fluid cells": ("fluid", "cells", [16, 24, 32], {}),
     "membrane grid": ("membrane", "grid_size", [14, 20, 26], {}),
     "window (s)": ("dynamics", "window", [0.016, 0.008, 0.004], {"substep_fraction": 0.266}),
     "coupling tolerance": ("coupling", "pressure_tolerance", [1e-3, 1e-4, 1e-5], {}),
@@ -93,7 +101,8 @@ def family(name: str, end_time: float) -> dict:
                                                r["node_position"], finest["radius"])
         r["centre_vs_finest_mm"] = 1e3 * float(np.linalg.norm(np.subtract(r["centre"],
                                                                           finest["centre"])))
-    h = [1.0 / (v - 1) for v in values] if name == "membrane grid" else list(values)
+    h = ([1.0 / (v - 1) for v in values] if name == "membrane grid" else
+         [1.0 / v for v in values] if name == "fluid cells" else list(values))
     out = dict(values=values, sizes=h,
                runs=[{k: v for k, v in r.items() if k not in ("node_position", "faces")}
                      for r in runs])
@@ -115,7 +124,9 @@ def plot(result: dict, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(FAMILIES), figsize=(13, 3.8))
+    count = len(result["families"])
+    fig, axes = plt.subplots(1, count, figsize=(4.3 * count, 3.8), squeeze=False)
+    axes = axes[0]
     for ax, (name, fam) in zip(axes, result["families"].items()):
         v = fam["values"]
         ax.plot(v, [r["level"] for r in fam["runs"]], "o-", label="level (Pa)")
@@ -134,6 +145,32 @@ def plot(result: dict, path: Path) -> None:
     plt.close(fig)
 
 
+def plot_speed_accuracy(result: dict, path: Path) -> None:
+    """Wall seconds against shape error per run, one marker per family, the thesis anchor."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for name, fam in result["families"].items():
+        runs = fam["runs"][:-1]  # the finest is each family's reference
+        ax.loglog([r["seconds"] for r in runs], [r["eqn_6_1_vs_finest"] for r in runs], "o-",
+                  label=name)
+        for r in runs:
+            ax.annotate(f"{r['value']:g}", (r["seconds"], r["eqn_6_1_vs_finest"]), fontsize=7)
+    ax.axvline(THESIS_FSI_SECONDS, color="k", ls="--")
+    ax.text(THESIS_FSI_SECONDS, ax.get_ylim()[0], " thesis FSI:\n 4+ weeks,\n unfinished",
+            fontsize=8, va="bottom")
+    ax.set_xlabel(f"wall seconds for t = {result['end_time']} s of the fill")
+    ax.set_ylabel("shape error, Eqn 6.1 against the family's finest (%)")
+    ax.set_title("diaphragm-fill: speed against accuracy, one key at a time")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--end-time", type=float, default=0.048)
@@ -147,6 +184,10 @@ def main(argv=None) -> int:
     OUTPUT.mkdir(exist_ok=True)
     (OUTPUT / "coupled_convergence.json").write_text(json.dumps(result, indent=1))
     plot(result, OUTPUT / "coupled_convergence.png")
+    plot_speed_accuracy(result, OUTPUT / "coupled_speed_accuracy.png")
+    result["thesis_fsi_seconds"] = THESIS_FSI_SECONDS
+    result["slowest_run_over_thesis"] = max(r["seconds"] for f in result["families"].values()
+                                            for r in f["runs"]) / THESIS_FSI_SECONDS
     print(json.dumps(result))
     return 0
 
