@@ -38,7 +38,6 @@ import json
 import logging
 import sys
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -63,11 +62,10 @@ FAMILIES = {
 
 
 def run(table: str, key: str, value, end_time: float, held: dict) -> dict:
-    scene = load_scene("diaphragm-fill")
-    values = {**scene.values, table: {**scene[table], **held, key: value}}
-    values["dynamics"] = {**values["dynamics"], "end_time": end_time,
-                          "frame_interval": 100_000}
-    setup = build(replace(scene, values=values))
+    changes = {table: {**held, key: value}}
+    changes["dynamics"] = {**changes.get("dynamics", {}), "end_time": end_time,
+                           "frame_interval": 100_000}
+    setup = build(load_scene("diaphragm-fill").with_keys(changes))
     t0 = time.perf_counter()
     result = PROCEDURES["coupled-fill"](setup, lambda f, m: None)
     x = result.groups["frames"]["node_position"][-1]

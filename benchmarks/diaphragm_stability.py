@@ -30,7 +30,6 @@ import re
 import logging
 import sys
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -55,11 +54,9 @@ def predicted_bound() -> dict:
 
 def run_case(coupling: dict, windows: int) -> dict:
     """The bundled diaphragm-fill's first ``windows`` windows with ``coupling`` keys set."""
-    scene = load_scene("diaphragm-fill")
-    values = {**scene.values, "coupling": {**scene["coupling"], **coupling},
-              "dynamics": {**scene["dynamics"], "end_time": windows * 0.002,
-                           "frame_interval": windows}}
-    setup = build(replace(scene, values=values))
+    setup = build(load_scene("diaphragm-fill").with_keys(
+        {"coupling": coupling, "dynamics": {"end_time": windows * 0.002,
+                                            "frame_interval": windows}}))
     t0 = time.perf_counter()
     result = PROCEDURES["coupled-fill"](setup, lambda f, m: None)
     w = result.groups.get("windows", {})

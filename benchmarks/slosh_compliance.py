@@ -30,7 +30,7 @@ import numpy as np
 from fsi.build import build
 from fsi.lateral_compliance import first_mode_bound, free_surface_compliance
 from fsi.procedures.slosh_diaphragm import elastic_energies, start_compliance, static_start
-from fsi.scene import load_scene
+from fsi.scene import SceneError, load_scene
 from fluid.container import SphericalTank
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
 
@@ -39,16 +39,14 @@ FIGURE = OUTPUT / "slosh_compliance.png"
 
 
 def _setup(grid_size: int, fill: float, changes: dict):
-    scene = load_scene("slosh-diaphragm")
-    v = scene.values
-    v["membrane"]["grid_size"] = grid_size
-    v["slosh"]["fill"] = fill
+    keys = {"membrane": {"grid_size": grid_size}, "slosh": {"fill": fill}}
     for key, value in changes.items():
         section, name = key.split(".")
-        if name not in v.get(section, {}):
-            raise SystemExit(f"--set {key}: no such scene key in slosh-diaphragm")
-        v[section][name] = value
-    return build(scene)
+        keys.setdefault(section, {})[name] = value
+    try:
+        return build(load_scene("slosh-diaphragm").with_keys(keys))
+    except SceneError as err:
+        raise SystemExit(f"--set: {err}") from None
 
 
 def _change(text: str) -> tuple:

@@ -15,7 +15,6 @@ from __future__ import annotations
 import json
 import logging
 import time
-from dataclasses import replace
 
 import numpy as np
 
@@ -49,9 +48,7 @@ def main() -> dict:
         _timed(build(warm))
     logging.getLogger("fsi").setLevel(logging.WARNING)
 
-    static = load_scene("thesis-static")
-    static = replace(static, values={**static.values,
-                                     "sweep": {**static["sweep"], "drain": False}})
+    static = load_scene("thesis-static").with_keys({"sweep": {"drain": False}})
     sweep_s, sweep = _timed(build(static))
     frames = sweep.groups["frames"]
     target = np.asarray(frames["target_fill_fraction"])

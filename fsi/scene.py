@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 
@@ -124,6 +124,25 @@ class Scene:
     @property
     def name(self) -> str:
         return self.values["scene"]["name"]
+
+    def with_keys(self, changes: dict) -> "Scene":
+        """This scene with ``changes`` = {section: {key: value}} applied, each value checked
+        as a scene file's is (raises :class:`SceneError` naming the key); ``text`` stays the
+        source's."""
+        values = {section: dict(keys) for section, keys in self.values.items()}
+        for section, keys in changes.items():
+            if section not in SCHEMA:
+                raise SceneError(f"unknown scene section '[{section}]'; allowed: "
+                                 f"{', '.join(SCHEMA)}")
+            for name, value in keys.items():
+                if name not in SCHEMA[section]:
+                    raise SceneError(f"unknown scene key '{section}.{name}'; allowed in "
+                                     f"[{section}]: {', '.join(SCHEMA[section])}")
+                values[section][name] = _coerce(f"{section}.{name}", SCHEMA[section][name],
+                                                value)
+            SCHEMA[section].check(values[section])
+        _check_structure_model(values)
+        return replace(self, values=values)
 
 
 def _coerce(path: str, key: Key, value):

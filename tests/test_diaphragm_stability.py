@@ -4,8 +4,6 @@ diverges (Causin, Gerbeau & Nobile 2005; README, 'On the diaphragm itself').  Th
 measured between omega = 0.07 (converges) and 0.1 (does not) by
 ``benchmarks/diaphragm_stability.py``; the sphere's n = 1 estimate 2 m / (m + rho_f R) = 0.018
 lies below it (safe)."""
-from dataclasses import replace
-
 import numpy as np
 import pytest
 
@@ -16,11 +14,10 @@ from fsi.scene import load_scene
 
 
 def _run(coupling: dict, windows: int):
-    scene = load_scene("diaphragm-fill")
-    values = {**scene.values, "coupling": {**scene["coupling"], **coupling},
-              "dynamics": {**scene["dynamics"], "end_time": windows * 0.002,
-                           "frame_interval": windows}}
-    return PROCEDURES["coupled-fill"](build(replace(scene, values=values)), lambda f, m: None)
+    scene = load_scene("diaphragm-fill").with_keys(
+        {"coupling": coupling, "dynamics": {"end_time": windows * 0.002,
+                                            "frame_interval": windows}})
+    return PROCEDURES["coupled-fill"](build(scene), lambda f, m: None)
 
 
 def test_constant_relaxation_converges_below_the_bound_and_not_above():
@@ -50,12 +47,10 @@ def test_coupled_fill_is_first_order_in_the_window():
     coupled fill')."""
     levels = []
     for window in (0.016, 0.008, 0.004):
-        scene = load_scene("diaphragm-fill")
-        values = {**scene.values, "dynamics": {**scene["dynamics"], "window": window,
-                                               "substep_fraction": 0.266, "end_time": 0.048,
-                                               "frame_interval": 1000}}
-        result = PROCEDURES["coupled-fill"](build(replace(scene, values=values)),
-                                            lambda f, m: None)
+        scene = load_scene("diaphragm-fill").with_keys(
+            {"dynamics": {"window": window, "substep_fraction": 0.266, "end_time": 0.048,
+                          "frame_interval": 1000}})
+        result = PROCEDURES["coupled-fill"](build(scene), lambda f, m: None)
         assert result.attrs["failure"] == ""
         assert result.attrs["substep"] == pytest.approx(0.002 / 3, rel=1e-12)
         levels.append(float(result.groups["windows"]["pressure_level"][-1]))

@@ -107,3 +107,15 @@ def test_benchmark_scenes_validate_and_build(name):
     flow, ramp = setup.scene["port"]["flow"], setup.scene["port"]["ramp_time"]
     end_fill = dyn["start_fill"] + flow * (dyn["end_time"] - ramp / 2) / tank
     assert end_fill == pytest.approx(0.9 if flow > 0 else 0.1, abs=1e-6)
+
+
+def test_with_keys_changes_a_copy_and_checks_each_value():
+    scene = load_scene("diaphragm-fill")
+    changed = scene.with_keys({"dynamics": {"window": 0.004, "end_time": 1}})
+    assert changed["dynamics"]["window"] == 0.004 and changed["dynamics"]["end_time"] == 1.0
+    assert isinstance(changed["dynamics"]["end_time"], float)  # coerced as a file's is
+    assert scene["dynamics"]["window"] == 0.002 and changed["port"] == scene["port"]
+    with pytest.raises(SceneError, match="dynamics.window"):
+        scene.with_keys({"dynamics": {"window": -1.0}})
+    with pytest.raises(SceneError, match="membrane.colour"):
+        scene.with_keys({"membrane": {"colour": "red"}})
