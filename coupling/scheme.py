@@ -16,7 +16,14 @@ input and output go to the acceleration's ``converged`` (quasi-Newton secants fo
 the accelerated vector is each accelerated field scaled by its norm at the window's first
 iteration (so fields of different units weigh alike in the quasi-Newton least squares).
 On reaching ``max_iterations`` without convergence the scheme raises :class:`CouplingError`
-(``on_max_iterations = "error"``) or accepts the last iterate and logs it (``"accept"``).
+(``on_max_iterations = "error"``), accepts the last iterate and logs it (``"accept"``), or
+redoes the window once from its start by the explicit scheme (``"explicit"``: the first
+participant with the window's predicted data, the second with the first's output; both
+restored from their checkpoints, the acceleration's reused secants dropped) and logs it.
+Either way the window's log says ``converged = False``; ``explicit`` marks the redone one.
+Where "explicit" is meant: a fixed point that does not exist near the window's start, as when
+a quasi-static membrane's equilibrium path jumps (a fold snapping), which no smaller window
+mends (README, 'Slow fills').
 
 Every scheme starts a window from a prediction of every field made from the converged values
 of past windows x^n, x^{n-1}, x^{n-2} (``extrapolation_order``, after preCICE's
@@ -42,7 +49,7 @@ log = logging.getLogger(__name__)
 SCHEMES: dict[str, Callable] = {}
 IMPLICIT_SCHEMES: set[str] = set()
 """Names in SCHEMES that iterate each window until the convergence measures hold."""
-ON_MAX_ITERATIONS = ("error", "accept")
+ON_MAX_ITERATIONS = ("error", "accept", "explicit")
 EXTRAPOLATION_WEIGHTS = {0: (1.0,), 1: (2.0, -1.0), 2: (2.5, -2.0, 0.5)}
 """Weights of x^n, x^{n-1}, x^{n-2} in the prediction of a window's starting values."""
 
@@ -76,7 +83,8 @@ class CouplingSettings:
     scheme : one of SCHEMES; acceleration : one of ACCELERATIONS (ignored by ``explicit``);
     acceleration_settings : :class:`AccelerationSettings`; measures : list of
     :class:`ConvergenceMeasure`, at least one for a scheme in IMPLICIT_SCHEMES;
-    max_iterations : per window; on_max_iterations : ``error`` or ``accept``;
+    max_iterations : per window; on_max_iterations : ``error``, ``accept`` or ``explicit``
+    (module doc);
     accelerated_fields : fields in the fixed-point vector (default: the second's fields for
     serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction of each
     window's starting values from past windows.
@@ -116,7 +124,8 @@ class CouplingSettings:
 class WindowLog:
     """One window: index, start time (s), size (s), iterations, residuals per iteration
     ({field: norm}), relaxation per iteration (NaN for quasi-Newton steps), converged flag,
-    and seconds spent in each participant's ``solve_window``."""
+    seconds spent in each participant's ``solve_window``, and ``explicit``: redone by the
+    explicit scheme after ``iterations - 1`` iterations did not converge."""
 
     index: int
     time: float
@@ -126,6 +135,7 @@ class WindowLog:
     relaxation: list = field(default_factory=list)
     converged: bool = False
     seconds: dict = field(default_factory=dict)
+    explicit: bool = False
 
 
 @dataclass
@@ -242,6 +252,18 @@ def _explicit(first, second, settings, acceleration, data, t, dt, window):
     return {**data, **out1, **out2}
 
 
+def _redo_explicit(first, second, data, t, dt, window):
+    """The window by the explicit scheme from the predicted ``data``, counted as one more
+    iteration of ``window`` (left unconverged, marked ``explicit``)."""
+    redo = WindowLog(index=window.index, time=t, size=dt)
+    out = _explicit(first, second, None, None, dict(data), t, dt, redo)
+    window.iterations += 1
+    window.explicit = True
+    for name, seconds in redo.seconds.items():
+        window.seconds[name] = window.seconds.get(name, 0.0) + seconds
+    return out
+
+
 class _Packer:
     """Concatenate named fields into one scaled vector and back."""
 
@@ -300,6 +322,12 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
                f"iterations; last residuals {window.residuals[-1]}")
         if settings.on_max_iterations == "error":
             raise CouplingError(msg, window)
+        if settings.on_max_iterations == "explicit":
+            log.warning("%s; redone explicitly", msg)
+            first.restore_checkpoint(checkpoints[0])
+            second.restore_checkpoint(checkpoints[1])
+            acceleration.forget()
+            return _redo_explicit(first, second, data, t, dt, window)
         log.warning("%s; accepted", msg)
     acceleration.end_window()
     return x_tilde

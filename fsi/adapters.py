@@ -20,7 +20,8 @@ from fluid.interface import Interface, is_closed
 from fluid.solver import FluidSolver
 from structure.load import Load
 from structure.model import MembraneState
-from structure.xpbd import WINDOW_SCHEMES, XpbdDivergence, XpbdModel, XpbdSettings
+from structure.xpbd import WINDOW_SCHEMES, XpbdDivergence, XpbdModel, XpbdSettings, \
+    quasi_static_step
 
 POINTS = "interface_points"
 VELOCITIES = "interface_velocities"
@@ -152,13 +153,16 @@ class MembraneParticipant:
     coupling iteration); None: the received values as they are.
 
     Under 'quasi-static', a window whose equilibrium is not reached in
-    QUASI_STATIC_MAX_SUBSTEPS substeps (a fold snapping: no equilibrium near the last one),
-    or one redone after its coupling failed (:meth:`with_inertia`), is done with the
-    membrane's inertia instead ('substeps'), every iteration of it; its start time is in
-    :attr:`dynamic_windows`.
+    QUASI_STATIC_MAX_SUBSTEPS warm-started substeps (a fold snapping: no equilibrium near the
+    last one, or the substeps blowing up at a fold) is solved again by damped relaxation
+    (the static sweep's solve, RELAXED_MAX_SUBSTEPS at most; counted in
+    :attr:`relaxed_solves`); where that fails too, or for a window redone after its coupling
+    failed (:meth:`with_inertia`), the window is done with the membrane's inertia instead
+    ('substeps'), every iteration of it; its start time is in :attr:`dynamic_windows`.
     """
 
     QUASI_STATIC_MAX_SUBSTEPS = 5000
+    RELAXED_MAX_SUBSTEPS = 50_000
     SETTLED_SPEED = 1e-3  # m/s: after an inertial window, quasi-static again below this
 
     name = "structure"
@@ -181,6 +185,7 @@ class MembraneParticipant:
         self.history: tuple[MembraneState, float] | None = None
         self.sent = self.state.node_position.copy()
         self.dynamic_windows: list[float] = []
+        self.relaxed_solves = 0
         self._inertial_end = np.nan  # end time (s) of the last window done with inertia
 
     def _body(self, time: float) -> np.ndarray:
@@ -243,9 +248,17 @@ class MembraneParticipant:
         load = Load(self._pressure(received, body), body, volume_target=target,
                     pressure_level=self.level)
         try:
-            return WINDOW_SCHEMES["quasi-static"](
+            return quasi_static_step(
                 self.model, start, load, dt,
                 replace(self.settings, max_steps=self.QUASI_STATIC_MAX_SUBSTEPS), self.history)
+        except XpbdDivergence as err:
+            log.info("window from t = %g s: %s; solved by damped relaxation", time, err)
+        try:
+            self.relaxed_solves += 1
+            return quasi_static_step(
+                self.model, start, load, dt,
+                replace(self.settings, max_steps=self.RELAXED_MAX_SUBSTEPS), self.history,
+                relaxed=True)
         except XpbdDivergence as err:
             log.info("window from t = %g s: %s; done with the membrane's inertia", time, err)
             self.with_inertia(time)

@@ -151,6 +151,30 @@ def test_max_iterations_accept_logs_and_continues(caplog):
     assert "accepted" in caplog.text
 
 
+def test_max_iterations_explicit_redoes_the_window_as_the_explicit_scheme_does(caplog):
+    """on_max_iterations = "explicit": the unconverged window is redone from its restored
+    start by the explicit scheme, so its data and the integrators' states equal a plain
+    explicit run's; the log says unconverged and explicit, with the failed iterations + 1."""
+    s, f = _pair()
+    settings = _settings("implicit-serial", "iqn-ils")
+    settings.max_iterations = 2
+    settings.on_max_iterations = "explicit"
+    out = []
+    with caplog.at_level(logging.WARNING):
+        log = run(s, f, settings, dt=0.1, n_windows=2,
+                  on_window=lambda w, data: out.append({k: v.copy() for k, v in data.items()}))
+    assert [(w.converged, w.explicit, w.iterations) for w in log.windows] == \
+        [(False, True, 3), (False, True, 3)]
+    assert "redone explicitly" in caplog.text
+    s2, f2 = _pair()
+    out2 = []
+    run(s2, f2, _settings("explicit", "constant"), dt=0.1, n_windows=2,
+        on_window=lambda w, data: out2.append({k: v.copy() for k, v in data.items()}))
+    for a, b in zip(out, out2):
+        assert np.array_equal(a["d"], b["d"]) and np.array_equal(a["p"], b["p"])
+    assert s.state == s2.state and f.state == f2.state
+
+
 def test_sufficient_measure_ends_window_early():
     s, f = _pair()
     settings = _settings("implicit-serial", "iqn-ils")

@@ -65,6 +65,18 @@ def test_controller_shrinks_at_a_snap_and_caps_the_window():
     assert c.over_tolerance >= 1 and sizes[k + 1] == pytest.approx(SHRINK * sizes[k])
 
 
+def test_controller_keeps_the_floor_at_a_snap_and_does_not_retry_below_it():
+    def trajectory(t):  # at rest, a jump of 1 cm at t = 1 s, then at rest
+        return np.array([[0.01 if t > 1.0 else 0.0, 0.0, 0.0]])
+    c = WindowController(1e-4, 0.5, 3.0, "p", trajectory(0.0), min_window=0.1)
+    t, sizes = _drive(c, trajectory, 0.1, 3.0)
+    assert t == pytest.approx(3.0, rel=1e-12)
+    assert c.over_tolerance >= 1  # the jump's window is over the tolerance ...
+    assert min(sizes) == pytest.approx(0.1, rel=1e-12)  # ... and the next is the floor
+    assert c.retry(Window(0.0, 0.3)) == pytest.approx(0.15)
+    assert c.retry(Window(0.0, 0.15)) is None  # half of it would be below the floor
+
+
 def test_controller_retries_shrink_then_give_up():
     c = WindowController(1e-4, 1.0, 10.0, "p", np.zeros((1, 3)))
     sizes = [c.retry(Window(0.0, 0.4 * RETRY_FACTOR**k)) for k in range(RETRIES)]

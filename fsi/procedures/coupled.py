@@ -30,6 +30,10 @@ MAX_WINDOWS = 1e6
 
 
 def _check_dynamics(dyn: dict) -> None:
+    if dyn["min_window"] > min(dyn["window"], dyn["max_window"]):
+        raise SceneError(f"scene key 'dynamics.min_window' = {dyn['min_window']!r} s: must not "
+                         f"exceed dynamics.window ({dyn['window']!r} s) or dynamics.max_window "
+                         f"({dyn['max_window']!r} s)")
     windows = dyn["end_time"] / (dyn["max_window"] if dyn["window_tolerance"] > 0
                                  else dyn["window"])
     if windows > MAX_WINDOWS:
@@ -54,6 +58,9 @@ DYNAMICS = Table({
                             "(m; README, 'Dynamic fill')"),
     "max_window": Key(float, 1.0, lambda v: 0 < v <= 100, "0 < value <= 100 s",
                       "largest window with window_tolerance (s)"),
+    "min_window": Key(float, 0.0, lambda v: 0 <= v <= 100, "0 <= value <= 100 s",
+                      "smallest window with window_tolerance (s), also for windows redone "
+                      "after a coupling failure; 0: none (README, 'Slow fills')"),
     "end_time": Key(float, 0.2, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 5, lambda v: v >= 1, ">= 1",
                           "windows between recorded frames"),
@@ -133,7 +140,8 @@ COUPLING = Table({
     "max_iterations": Key(int, 60, lambda v: 1 <= v <= 10_000, "1..10000",
                           "coupling iterations per window at most"),
     "on_max_iterations": Key(str, "error", *one_of(ON_MAX_ITERATIONS),
-                             "stop with an error, or accept the window and log it"),
+                             "stop with an error, accept the window and log it, or redo it once by "
+                             "the explicit scheme and log it"),
     "extrapolation_order": Key(int, 0, *one_of(sorted(EXTRAPOLATION_WEIGHTS)),
                                "prediction of a window's start from past windows"),
 })

@@ -153,31 +153,42 @@ def frame(setup, parts: Coupled, state, pressure, level, t, seconds, converged) 
                 wall_seconds=float(seconds), converged=bool(converged))
 
 
+FRAME_FILL_STEP = 0.1
+"""Besides every ``dynamics.frame_interval`` windows, a frame is recorded at the end of each
+window in which the tank fraction crosses a multiple of this (-): the fills at which a fill or
+drain is compared with the static sweep (:mod:`fsi.static_vs_dynamic`)."""
+
+
 def window_recorder(setup, parts: Coupled, run: Run, controller=None):
     """on_window(window log, data) of :func:`coupling.run`: a ``windows`` record every
     window (with its size and, under ``controller``, its local error), a frame when one is
-    due, progress by simulated time."""
+    due or the tank fraction crossed a multiple of FRAME_FILL_STEP, progress by simulated
+    time."""
     dyn = setup.scene["dynamics"]
     membrane, fluid = parts.membrane, parts.fluid
+    step = FRAME_FILL_STEP * 4.0 / 3.0 * np.pi * setup.model.radius**3  # m^3
+    band = [np.floor(parts.start_volume / step)]
 
     def record(w, data):
         t = (w.index + 1) * w.size if controller is None else w.time + w.size
         last = w.residuals[-1] if w.residuals else {}
         error = controller.errors[-1] if controller is not None and controller.errors \
             else np.nan
+        volume = liquid_volume(setup.model, membrane.state.node_position)
         run.record("windows", dict(
             time=t, window_size=w.size, window_error=error,
-            coupling_iterations=w.iterations, converged=w.converged,
+            coupling_iterations=w.iterations, converged=w.converged, explicit=w.explicit,
             residual_pressure=float(last.get(PRESSURE, np.nan)),
             residual_points=float(last.get(POINTS, np.nan)),
             seconds_structure=float(w.seconds.get(membrane.name, 0.0)),
             seconds_fluid=float(w.seconds.get(parts.fluid_side.name, 0.0)),
             pressure_level=membrane.level,
-            liquid_volume=liquid_volume(setup.model, membrane.state.node_position),
-            fluid_liquid_volume=fluid.liquid_volume, port_flow=parts.flow(t),
-            delivered_volume=parts.flow.delivered(t)))
+            liquid_volume=volume, fluid_liquid_volume=fluid.liquid_volume,
+            port_flow=parts.flow(t), delivered_volume=parts.flow.delivered(t)))
         done = t >= dyn["end_time"] * (1 - END_TOLERANCE)
-        if (w.index + 1) % dyn["frame_interval"] == 0 or done:
+        now = np.floor(volume / step)
+        crossed, band[0] = now != band[0], now
+        if (w.index + 1) % dyn["frame_interval"] == 0 or done or crossed:
             run.record("frames", frame(setup, parts, membrane.state, data[PRESSURE],
                                        membrane.level, t, run.elapsed(), w.converged))
         run.progress(run.total * min(t / dyn["end_time"], 1.0),
@@ -206,7 +217,8 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     if dyn["window_tolerance"] > 0:
         controller = WindowController(dyn["window_tolerance"], dyn["max_window"],
                                       dyn["end_time"], POINTS, start.node_position,
-                                      on_retry=lambda w: parts.membrane.with_inertia(w.time))
+                                      on_retry=lambda w: parts.membrane.with_inertia(w.time),
+                                      min_window=dyn["min_window"])
         n_windows = int(MAX_WINDOWS)
     try:
         couple(parts.membrane, parts.fluid_side, coupling_settings(setup.scene["coupling"]),
@@ -221,6 +233,8 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
         attrs["windows_over_tolerance"] = controller.over_tolerance
         attrs["windows_redone"] = controller.redone
     attrs["windows_with_inertia"] = len(parts.membrane.dynamic_windows)
+    attrs["relaxed_solves"] = parts.membrane.relaxed_solves
+    attrs["windows_explicit"] = sum(r["explicit"] for r in run.groups.get("windows", []))
     return run.result(**attrs)
 
 

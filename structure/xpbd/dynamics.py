@@ -132,11 +132,15 @@ def bdf2_step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
 
 
 def quasi_static_step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
-                      settings: XpbdSettings, history=None) -> tuple[XpbdState, StepInfo]:
+                      settings: XpbdSettings, history=None, relaxed: bool = False
+                      ) -> tuple[XpbdState, StepInfo]:
     """The window's end as the membrane's static equilibrium under ``load``, its inertia
     dropped: warm-started quasi-static XPBD substeps of ``settings.dt``
     (:func:`structure.xpbd.solve_equilibrium`, ``settings.tolerance`` and ``max_steps``) from
-    the window's start, the multipliers carried from the last window.  The load's field is
+    the window's start, the multipliers carried from the last window; ``relaxed``: damped
+    dynamic relaxation instead (no warm start, kinetic damping, the volume ramped at
+    ``settings.ramp_rate``), the static sweep's solve, slower but robust where the
+    warm-started substeps blow up at a fold.  The load's field is
     evaluated at every substep, so a position-dependent part (the hydrostatic pressure) acts
     implicitly.  Velocities are the window's mean, (x_end - x_start) / dt, what a liquid
     sees of the moving wall.
@@ -152,6 +156,8 @@ def quasi_static_step(model: XpbdModel, state: MembraneState, load: Load, dt: fl
     warm = XpbdState(start, np.zeros_like(start),
                      multipliers=None if lam is None else copy.deepcopy(lam))
     s = replace(settings, warm_start=True, kinetic_damping=False, ramp_rate=1.0)
+    if relaxed:
+        s = replace(settings, warm_start=False, kinetic_damping=True)
     end, info = solve_equilibrium(model, warm, load, s)
     if not info.converged:
         raise XpbdDivergence(f"xpbd quasi-static window: no equilibrium after {info.steps} "
