@@ -169,8 +169,8 @@ def run(first: Participant, second: Participant, settings: CouplingSettings, dt:
     """Couple ``first`` and ``second`` over ``n_windows`` windows of ``dt`` (s) from ``t0``.
 
     ``on_window(window_log, data)`` is called after each window with the converged fields of
-    both participants. ``next_window(window_log, data)``, when given, returns the next
-    window's size (s), or None to stop (windows of varying size; ``n_windows`` is then the
+    both participants. ``next_window(window_log, data)``, when given, is called just before
+    it and returns the next window's size (s), or None to stop (windows of varying size; ``n_windows`` is then the
     most); if it also has ``retry(window_log)``, a window that raises :class:`CouplingError`
     is redone from its start (both participants restored, the acceleration's memory of past
     windows dropped) at the size that returns, until it returns None.
@@ -193,11 +193,12 @@ def run(first: Participant, second: Participant, settings: CouplingSettings, dt:
         coupling_log.windows.append(window)
         log.debug("window %d: %d iterations, converged %s", k, window.iterations,
                   window.converged)
+        if next_window is not None:  # before on_window, which may report what it found
+            t = window.time + dt
+            dt = next_window(window, data)
         if on_window is not None:
             on_window(window, data)
         if next_window is not None:
-            t = window.time + dt
-            dt = next_window(window, data)
             if dt is None:
                 break
             _check_window(dt)

@@ -152,17 +152,17 @@ class MembraneParticipant:
     every substep: the hydrostatic stiffness then lives in the membrane's solve, not in the
     coupling iteration); None: the received values as they are.
 
-    Under 'quasi-static', a window whose equilibrium is not reached in
-    QUASI_STATIC_MAX_SUBSTEPS warm-started substeps (a fold snapping: no equilibrium near the
-    last one, or the substeps blowing up at a fold) is solved again by damped relaxation
-    (the static sweep's solve, RELAXED_MAX_SUBSTEPS at most; counted in
-    :attr:`relaxed_solves`); where that fails too, or for a window redone after its coupling
-    failed (:meth:`with_inertia`), the window is done with the membrane's inertia instead
-    ('substeps'), every iteration of it; its start time is in :attr:`dynamic_windows`.
+    Under 'quasi-static' each window's end is the membrane's equilibrium found by damped
+    relaxation (:func:`structure.xpbd.quasi_static_step` with ``relaxed``: the static
+    sweep's solve, so that a slow fill and the static model are one model; warm-started
+    substeps, exact but slow to converge near a fold and liable to blow up there, made the
+    thesis fill several times slower).  A window whose equilibrium is not reached in
+    QUASI_STATIC_MAX_SUBSTEPS substeps, or one redone after its coupling failed
+    (:meth:`with_inertia`), is done with the membrane's inertia instead ('substeps'), every
+    iteration of it; its start time is in :attr:`dynamic_windows`.
     """
 
-    QUASI_STATIC_MAX_SUBSTEPS = 5000
-    RELAXED_MAX_SUBSTEPS = 50_000
+    QUASI_STATIC_MAX_SUBSTEPS = 50_000
     SETTLED_SPEED = 1e-3  # m/s: after an inertial window, quasi-static again below this
 
     name = "structure"
@@ -185,7 +185,7 @@ class MembraneParticipant:
         self.history: tuple[MembraneState, float] | None = None
         self.sent = self.state.node_position.copy()
         self.dynamic_windows: list[float] = []
-        self.relaxed_solves = 0
+        self._guess = (np.nan, np.nan, None)  # (window start s, size s, its last end state)
         self._inertial_end = np.nan  # end time (s) of the last window done with inertia
 
     def _body(self, time: float) -> np.ndarray:
@@ -248,21 +248,23 @@ class MembraneParticipant:
         load = Load(self._pressure(received, body), body, volume_target=target,
                     pressure_level=self.level)
         try:
-            return quasi_static_step(
-                self.model, start, load, dt,
-                replace(self.settings, max_steps=self.QUASI_STATIC_MAX_SUBSTEPS), self.history)
-        except XpbdDivergence as err:
-            log.info("window from t = %g s: %s; solved by damped relaxation", time, err)
-        try:
-            self.relaxed_solves += 1
-            return quasi_static_step(
-                self.model, start, load, dt,
-                replace(self.settings, max_steps=self.RELAXED_MAX_SUBSTEPS), self.history,
-                relaxed=True)
+            return self._quasi_static(start, load, time, dt)
         except XpbdDivergence as err:
             log.info("window from t = %g s: %s; done with the membrane's inertia", time, err)
             self.with_inertia(time)
             return self._step(start, received, body, time, dt)
+
+    def _quasi_static(self, start: MembraneState, load: Load, time: float, dt: float):
+        """The window's end in equilibrium by damped relaxation (the static sweep's solve),
+        from the last iteration's end when this window was solved before (the same
+        equilibrium, from nearer)."""
+        guess = self._guess[2] if self._guess[:2] == (time, dt) else None
+        out = quasi_static_step(
+            self.model, start, load, dt,
+            replace(self.settings, max_steps=self.QUASI_STATIC_MAX_SUBSTEPS), self.history,
+            relaxed=True, guess=guess)
+        self._guess = (time, dt, out[0])
+        return out
 
     def store_checkpoint(self):
         return self.state.copy(), self.level, self.history

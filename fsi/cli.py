@@ -1,7 +1,8 @@
-"""Command line: ``fsi run``, ``fsi compare``, ``fsi scenes``.
+"""Command line: ``fsi run``, ``fsi compare``, ``fsi advise``, ``fsi scenes``.
 
     fsi run <bundled scene | scene.toml> --out DIR [--no-plots]
     fsi compare A B [--fill F] [--obj-scale S]
+    fsi advise <bundled scene | scene.toml> [--accuracy PERCENT]
     fsi scenes [--reference]
 """
 from __future__ import annotations
@@ -165,6 +166,20 @@ def cmd_scenes(args) -> int:
     return 0
 
 
+def cmd_advise(args) -> int:
+    from .regime import advise_scene, load_table
+    from .scene import load_scene
+
+    if not args.accuracy > 0:
+        raise UsageError(f"--accuracy {args.accuracy}: an accuracy is > 0 (% Eqn 6.1)")
+    scene = load_scene(args.scene)
+    model, reasons = advise_scene(scene, args.accuracy, load_table())
+    print(f"{scene['scene']['name']}: {model} model")
+    for line in reasons:
+        print(f"  {line}")
+    return 0
+
+
 def main(argv=None) -> int:
     from .scene import SceneError
 
@@ -187,6 +202,13 @@ def main(argv=None) -> int:
     p.add_argument("--obj-scale", type=float, default=1.0,
                    help="factor from .obj units to m (default 1)")
     p.set_defaults(func=cmd_compare)
+    p = sub.add_parser("advise", help="which model a scene needs for a stated accuracy, and "
+                                      "why (the numbers it used)")
+    p.add_argument("scene", help="bundled scene name or path to a .toml scene file")
+    p.add_argument("--accuracy", type=float, default=1.0,
+                   help="largest acceptable shape difference from the coupled model, "
+                        "% Eqn 6.1 (default 1)")
+    p.set_defaults(func=cmd_advise)
     p = sub.add_parser("scenes", help="list bundled scenes")
     p.add_argument("--reference", action="store_true", help="print the scene key reference")
     p.set_defaults(func=cmd_scenes)

@@ -11,6 +11,18 @@ sweep's frame nearest to it are compared by
 
 Each row also carries both frames' tank fractions, so a pair further apart than
 ``pairing_tolerance`` is visible (``paired``: False).
+
+Three references: a static sweep's frames (:func:`compare`: the static model's own path);
+the static equilibrium holding each frame's liquid volume, continued frame to frame from the
+run's own static start by the same solve (:func:`against_static` ``along_path``); or that
+equilibrium sought from the frame's own shape (:func:`against_static`, the default: the
+same fold state, so the difference is what the dynamics add).  On the N = 14 diaphragm the
+first two differ from the third by the fold states: the equilibria are not unique, and a
+path settles into one or another (README, 'Static against dynamic').
+
+The flow study (:func:`flow_case`, :data:`FLOWS`): from the static start at tank fraction
+``START_FILL``, ``FILL_STEP`` of the tank filled through the port at each flow, slow to a
+valve opening, and the end against the static path.
 """
 from __future__ import annotations
 
@@ -18,6 +30,7 @@ import numpy as np
 
 from structure.model import MembraneModel
 from structure.volume import liquid_first_moment, liquid_volume
+from structure.xpbd import XpbdModel
 
 from .compare import eqn_6_1_error
 
@@ -41,17 +54,124 @@ def compare(dynamic_frames: dict, static_frames: dict, model: MembraneModel, fil
     for fill in fills:
         k = int(np.argmin(np.abs(dynamic_frames["tank_fraction"] - fill)))
         j = int(np.argmin(np.abs(static_frames["tank_fraction"] - fill)))
-        x_dyn = dynamic_frames["node_position"][k]
-        x_sta = static_frames["node_position"][j]
-        tank_dyn = float(dynamic_frames["tank_fraction"][k])
-        tank_sta = float(static_frames["tank_fraction"][j])
-        rows.append(dict(
-            fill=float(fill), tank_dynamic=tank_dyn, tank_static=tank_sta,
-            eqn_6_1=eqn_6_1_error(x_sta, model.face_nodes, x_dyn, model.radius),
-            level_difference=float(dynamic_frames["pressure_level"][k]
-                                   - static_frames["pressure_level"][j]),
-            centre_distance_mm=1e3 * float(np.linalg.norm(centre_of_mass(model, x_dyn)
-                                                          - centre_of_mass(model, x_sta))),
-            paired=bool(abs(tank_dyn - fill) <= pairing_tolerance
-                        and abs(tank_sta - fill) <= pairing_tolerance)))
+        rows.append(_row(model, fill, dynamic_frames["node_position"][k],
+                         dynamic_frames["pressure_level"][k], static_frames["node_position"][j],
+                         static_frames["pressure_level"][j], pairing_tolerance))
     return rows
+
+
+def _row(model, fill, x_dyn, level_dyn, x_sta, level_sta, pairing_tolerance) -> dict:
+    tank = 4.0 / 3.0 * np.pi * model.radius**3
+    tank_dyn, tank_sta = liquid_volume(model, x_dyn) / tank, liquid_volume(model, x_sta) / tank
+    return dict(
+        fill=float(fill), tank_dynamic=float(tank_dyn), tank_static=float(tank_sta),
+        eqn_6_1=eqn_6_1_error(x_sta, model.face_nodes, x_dyn, model.radius),
+        level_difference=float(level_dyn - level_sta),
+        centre_distance_mm=1e3 * float(np.linalg.norm(centre_of_mass(model, x_dyn)
+                                                      - centre_of_mass(model, x_sta))),
+        paired=bool(abs(tank_dyn - fill) <= pairing_tolerance
+                    and abs(tank_sta - fill) <= pairing_tolerance))
+
+
+def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
+    """Each of a coupled fill's ``frames`` (of ``setup``'s scene) against a static
+    equilibrium holding its liquid volume, by the coupled fill's static solve (damped XPBD
+    at its substep, :func:`fsi.procedures.coupled_fill.static_equilibrium`): started from
+    the frame's own shape (the equilibrium in the same fold state: what the dynamics alone
+    add), or with ``along_path`` from the run's static start, continued frame to frame (the
+    static model's own path, whose folds may settle otherwise). Rows as :func:`compare`'s,
+    ``fill`` the frame's tank fraction, with ``static_converged``."""
+    from structure.model import MembraneState
+
+    from .procedures.coupled_fill import membrane_settings, static_equilibrium, static_start
+
+    model = XpbdModel.from_membrane(setup.model)
+    settings = membrane_settings(setup)
+    state, _ = static_start(setup, model, settings) if along_path else (None, None)
+    rows = []
+    for x, level in zip(frames["node_position"], frames["pressure_level"]):
+        volume = liquid_volume(setup.model, x)
+        state, info = static_equilibrium(setup, model, settings, volume,
+                                         state if along_path else MembraneState(x))
+        tank = volume / (4.0 / 3.0 * np.pi * setup.model.radius**3)
+        rows.append(dict(_row(setup.model, tank, x, level, state.node_position,
+                              info.pressure_level, PAIRING_TOLERANCE),
+                         static_converged=bool(info.converged)))
+    return rows
+
+
+START_FILL = 0.5
+"""Tank fraction of the flow study's static start (-)."""
+FILL_STEP = 0.02
+"""Tank fraction each flow case fills (-)."""
+FLOWS = {
+    "slow": dict(flow=2e-5, ramp_time=0.1, time_scheme="quasi-static"),
+    "pump": dict(flow=2e-4, ramp_time=0.1, time_scheme="quasi-static"),
+    "fast": dict(flow=2e-3, ramp_time=0.1, time_scheme="euler"),
+    "valve-open": dict(flow=1e-2, ramp_time=0.02, time_scheme="euler"),
+}
+"""The flow study's cases, slow to a valve opening (m^3/s, s): 2e-5 m^3/s is the thesis
+scenes' (two 22 N thrusters' draw), 1e-2 m^3/s opened in 20 ms a valve-open transfer."""
+TIME_SCHEME_KEYS = {
+    "quasi-static": {"dynamics": dict(window=0.2, window_tolerance=1e-4, max_window=2.0,
+                                      min_window=0.2, frame_interval=5),
+                     "coupling": dict(time_scheme="quasi-static", position_tolerance=1e-4,
+                                      max_iterations=20, on_max_iterations="explicit")},
+    "euler": {"dynamics": dict(window=1e-3, frame_interval=20),
+              "coupling": dict(time_scheme="euler", max_iterations=100,
+                               on_max_iterations="accept")},
+}
+"""Scene keys of each window time scheme in the flow study (the quasi-static's as the thesis
+fill's).  The inertial windows are 1 ms: at 2 ms the valve opening's window 11 stalls at a
+relative pressure change of 0.15 after 60 iterations; at 1 ms window 28 stalls at 2.7e-4
+(tolerance 1e-4) after 100, so a window that stalls is accepted and counted
+(``windows_unconverged``)."""
+LATERAL_DURATION = 0.1
+"""s: a lateral case's impulse, a = amplitude sin^2(pi t / duration)."""
+
+
+def flow_case(flow: float, ramp_time: float, time_scheme: str, lateral: float = 0.0,
+              base: str = "diaphragm-fill", fill_step: float = FILL_STEP,
+              changes: dict | None = None) -> dict:
+    """One case of the flow study: ``base`` from its static start at START_FILL filled by
+    ``fill_step`` of the tank at ``flow`` (m^3/s, ramped over ``ramp_time`` s), windows by
+    ``time_scheme`` (TIME_SCHEME_KEYS), a lateral impulse of peak ``lateral`` (m/s^2) along x
+    when not zero, ``changes`` to any other keys; every frame against the static path
+    (:func:`against_static`, from each frame's shape, and along the static path). Returns
+    the case's keys, its :class:`fsi.regime.Regime` numbers, rows, the largest difference
+    of each measure over the frames (``path_``: against the static path), wall seconds,
+    failure ('' when none) and explicit windows."""
+    import time
+
+    from .build import build
+    from .procedures import PROCEDURES
+    from .regime import regime
+    from .scene import load_scene
+
+    radius = load_scene(base)["tank"]["radius"]
+    end_time = 0.5 * ramp_time + fill_step * 4.0 / 3.0 * np.pi * radius**3 / flow
+    keys = {table: dict(values) for table, values in TIME_SCHEME_KEYS[time_scheme].items()}
+    keys["dynamics"].update(start_fill=START_FILL, end_time=end_time)
+    keys["port"] = dict(flow=flow, ramp_time=ramp_time)
+    if lateral:
+        keys["motion"] = dict(kind="impulse", amplitude=[lateral, 0.0, 0.0],
+                              duration=LATERAL_DURATION)
+    for table, values in (changes or {}).items():
+        keys.setdefault(table, {}).update(values)
+    setup = build(load_scene(base).with_keys(keys))
+    t0 = time.perf_counter()
+    result = PROCEDURES["coupled-fill"](setup, lambda fraction, message: None)
+    seconds = time.perf_counter() - t0
+    rows = against_static(setup, result.groups["frames"])
+    path = against_static(setup, result.groups["frames"], along_path=True)
+    r = regime(setup.scene)
+    measures = ("eqn_6_1", "level_difference", "centre_distance_mm")
+    return dict(flow=flow, ramp_time=ramp_time, time_scheme=time_scheme, lateral=lateral,
+                end_time=end_time, pressure_ratio=r.pressure_ratio, time_ratio=r.time_ratio,
+                dynamic_pressure=r.dynamic_pressure, rows=rows,
+                **{key: max(abs(row[key]) for row in rows) for key in measures},
+                **{f"path_{key}": max(abs(row[key]) for row in path) for key in measures},
+                seconds=seconds, failure=result.attrs["failure"],
+                windows=int(result.attrs["windows_done"]),
+                windows_explicit=int(result.attrs["windows_explicit"]),
+                windows_unconverged=int(result.attrs["windows_unconverged"]))

@@ -96,12 +96,10 @@ def test_structure_model_key():
 
 
 @pytest.mark.parametrize("name", ["thesis-fill", "thesis-drain"])
-def test_benchmark_scenes_validate_and_build(name):
-    """The thesis's fill and drain (benchmarks/scenes, not bundled: README, 'Slow fills')."""
-    from pathlib import Path
-
-    path = Path(__file__).resolve().parent.parent / "benchmarks" / "scenes" / f"{name}.toml"
-    setup = build(load_scene(str(path)))
+def test_thesis_fill_and_drain_span_tank_fraction_0_1_to_0_9(name):
+    """The thesis's fill and drain (README, 'Slow fills'): end_time takes the port's flow from
+    tank fraction 0.1 to 0.9 or back."""
+    setup = build(load_scene(name))
     dyn = setup.scene["dynamics"]
     tank = 4.0 / 3.0 * 3.141592653589793 * setup.model.radius**3
     flow, ramp = setup.scene["port"]["flow"], setup.scene["port"]["ramp_time"]

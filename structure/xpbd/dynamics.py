@@ -132,15 +132,17 @@ def bdf2_step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
 
 
 def quasi_static_step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
-                      settings: XpbdSettings, history=None, relaxed: bool = False
-                      ) -> tuple[XpbdState, StepInfo]:
+                      settings: XpbdSettings, history=None, relaxed: bool = False,
+                      guess: MembraneState | None = None) -> tuple[XpbdState, StepInfo]:
     """The window's end as the membrane's static equilibrium under ``load``, its inertia
     dropped: warm-started quasi-static XPBD substeps of ``settings.dt``
     (:func:`structure.xpbd.solve_equilibrium`, ``settings.tolerance`` and ``max_steps``) from
     the window's start, the multipliers carried from the last window; ``relaxed``: damped
     dynamic relaxation instead (no warm start, kinetic damping, the volume ramped at
     ``settings.ramp_rate``), the static sweep's solve, slower but robust where the
-    warm-started substeps blow up at a fold.  The load's field is
+    warm-started substeps blow up at a fold.  ``guess``: where the substeps start (with its
+    multipliers) instead of the window's start, e.g. the last coupling iteration's end: the
+    same equilibrium is sought, from nearer.  The load's field is
     evaluated at every substep, so a position-dependent part (the hydrostatic pressure) acts
     implicitly.  Velocities are the window's mean, (x_end - x_start) / dt, what a liquid
     sees of the moving wall.
@@ -152,8 +154,9 @@ def quasi_static_step(model: XpbdModel, state: MembraneState, load: Load, dt: fl
     if not dt > 0:
         raise ValueError(f"xpbd window duration must be > 0 s, got {dt!r}")
     start = np.array(state.node_position, dtype=float)
-    lam = getattr(state, "multipliers", None)
-    warm = XpbdState(start, np.zeros_like(start),
+    first = state if guess is None else guess
+    lam = getattr(first, "multipliers", None)
+    warm = XpbdState(np.array(first.node_position, dtype=float), np.zeros_like(start),
                      multipliers=None if lam is None else copy.deepcopy(lam))
     s = replace(settings, warm_start=True, kinetic_damping=False, ramp_rate=1.0)
     if relaxed:

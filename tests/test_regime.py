@@ -1,0 +1,63 @@
+"""fsi advise: the dimensionless numbers of a fill, the measured table's interpolation, the
+advice and the command.
+
+Oracles: the first slosh period of a half-full rigid sphere from Budiansky's (1960)
+lambda_1 = omega_1^2 R / g = 1.5602; the pressures from their definitions (fsi.regime) with
+the bundled diaphragm-fill's numbers worked by hand."""
+import numpy as np
+import pytest
+
+from fsi.cli import main
+from fsi.regime import FIXED_ADVICE, advise, advise_scene, load_table, predicted, regime
+from fsi.scene import load_scene
+
+ROWS = [dict(pressure_ratio=1e-3, eqn_6_1=0.01, level_difference=-2.0, centre_distance_mm=0.01),
+        dict(pressure_ratio=1e-1, eqn_6_1=0.5, level_difference=300.0, centre_distance_mm=0.3),
+        dict(pressure_ratio=1e-2, eqn_6_1=0.1, level_difference=20.0, centre_distance_mm=0.1)]
+
+
+def test_regime_of_the_bundled_fill_by_hand():
+    r = regime(load_scene("diaphragm-fill"))
+    area = np.pi * 0.06**2
+    jet = 0.5 * 1000.0 * (5e-4 / area)**2  # 0.977 Pa
+    column = 1000.0 * 5e-4 / 0.1 * (0.065 / area + 1 / (np.pi * 0.20955))  # 36.33 Pa
+    assert r.dynamic_pressure == pytest.approx(jet + column, rel=1e-12)
+    assert r.hydrostatic_pressure == pytest.approx(1000.0 * 9.81 * 0.20955, rel=1e-12)
+    assert r.slosh_period == pytest.approx(2 * np.pi / np.sqrt(1.5602 * 9.81 / 0.20955),
+                                           rel=1e-12)
+    assert r.slosh_period == pytest.approx(0.7352, abs=1e-4)
+    assert r.time_ratio == pytest.approx(0.2 / r.slosh_period, rel=1e-12)
+
+
+def test_a_lateral_impulse_adds_rho_a_r():
+    scene = load_scene("diaphragm-fill")
+    moved = scene.with_keys({"motion": {"kind": "impulse", "amplitude": [2.0, 0.0, 0.0],
+                                        "duration": 0.1}})
+    extra = regime(moved).dynamic_pressure - regime(scene).dynamic_pressure
+    assert extra == pytest.approx(1000.0 * 2.0 * 0.20955, rel=1e-6)
+
+
+def test_prediction_interpolates_in_log_pi_p_and_never_falls():
+    p = predicted(np.sqrt(1e-3 * 1e-2), ROWS)
+    assert p["eqn_6_1"] == pytest.approx(0.055) and not p["extrapolated"]
+    assert predicted(1.0, ROWS)["eqn_6_1"] == 0.5 and predicted(1.0, ROWS)["extrapolated"]
+    bumpy = ROWS + [dict(pressure_ratio=3e-2, eqn_6_1=0.05, level_difference=1.0,
+                         centre_distance_mm=0.0)]
+    assert predicted(3e-2, bumpy)["eqn_6_1"] == pytest.approx(0.1)  # the largest so far
+
+
+def test_advice_follows_the_asked_accuracy_and_gives_its_numbers():
+    scene = load_scene("diaphragm-fill")  # Pi_p = 0.018: about 0.11 % by ROWS
+    model, lines = advise(scene, 1.0, ROWS)
+    assert model == "static" and "0.0181" in lines[0] and "0.272" in lines[1]
+    assert advise(scene, 0.05, ROWS)[0] == "coupled"
+    assert advise_scene(load_scene("slosh-half"), 1.0, ROWS)[0] == FIXED_ADVICE["slosh"][0]
+    assert advise_scene(load_scene("thesis-static"), 1.0, ROWS)[0] == "static"
+
+
+def test_fsi_advise_command(capsys):
+    assert len(load_table()) >= 4
+    assert main(["advise", "thesis-fill", "--accuracy", "1"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("thesis-fill: ") and "Pi_p" in out and "Eqn 6.1" in out
+    assert main(["advise", "thesis-fill", "--accuracy", "-1"]) == 2
