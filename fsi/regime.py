@@ -138,7 +138,7 @@ def advise_scene(scene, accuracy: float, rows: list[dict]) -> tuple[str, list[st
 
 def plot_map(rows: list[dict]):
     """The regime map: each measured run at (Pi_t, Pi_p), coloured and labelled by its
-    largest Eqn 6.1 difference from the static path; ``rows`` as :func:`load_table`'s. A
+    largest Eqn 6.1 difference from the static equilibrium; ``rows`` as :func:`load_table`'s. A
     matplotlib Figure."""
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
@@ -150,7 +150,7 @@ def plot_map(rows: list[dict]):
     for r in rows:
         ax.annotate(f"{r['name']}\n{r['eqn_6_1']:.2g} %", (r["time_ratio"], r["pressure_ratio"]),
                     fontsize=7, xytext=(4, 4), textcoords="offset points")
-    fig.colorbar(points, label="largest Eqn 6.1 against the static path (%)")
+    fig.colorbar(points, label="largest Eqn 6.1 against the static equilibrium (%)")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("Pi_t = fill time / first slosh period")

@@ -57,3 +57,19 @@ def test_coupled_fill_is_first_order_in_the_window():
     d12, d23 = abs(levels[0] - levels[1]), abs(levels[1] - levels[2])
     order = np.log(d12 / d23) / np.log(2.0)
     assert 0.8 < order < 2.0, levels
+
+
+@pytest.mark.slow
+def test_coupled_fill_converges_in_the_fluid_grid_and_the_coupling_tolerance():
+    """The slow members of the coupled fill's convergence study (fsi.coupled_study; README,
+    'Convergence of the coupled fill', measured: fluid cells 16/24/32 shape order 1.32,
+    coupling tolerance 1e-3/1e-4/1e-5 shape order 1.05): each family's shape error against
+    its finest falls (observed order > 0.5), and every run converges."""
+    from fsi.coupled_study import family
+
+    for name in ("fluid cells", "coupling tolerance"):
+        fam = family(name, 0.048)
+        assert all(r["failure"] == "" for r in fam["runs"]), name
+        e = [r["eqn_6_1_vs_finest"] for r in fam["runs"]]
+        assert e[0] > e[1] > e[2] == 0.0, (name, e)
+        assert fam["observed_order"]["shape"] > 0.5, (name, fam["observed_order"])

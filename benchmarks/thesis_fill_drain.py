@@ -1,0 +1,138 @@
+"""The thesis's fill and drain, coupled, against the static model at every 0.1 of tank
+fraction.
+
+    python benchmarks/thesis_fill_drain.py [--fill DIR] [--drain DIR]
+
+``--fill`` / ``--drain``: result folders of ``fsi run thesis-fill`` / ``thesis-drain`` (run
+here when not given: about 13 and 15 min).  The static reference is the volume sweep of the
+same membrane model and grid (XPBD, N = 14, one fixed ring, tank fractions 0.1 ... 0.9 and back
+down), and, at each run's own frames, the static equilibrium sought from the frame's shape
+(the same fold state).  At each tank fraction 0.1 ... 0.9: Eqn 6.1 (%), pressure level
+dynamic - static (Pa), liquid centre of mass distance (mm), for both references; the runs'
+wall time, windows, explicit (fold-snap) windows and the volume bookkeeping (membrane and
+fluid cut cells against the port's integrated flow).
+
+Writes ``benchmarks/output/thesis_fill_drain.json`` and ``thesis_fill_drain.png``; prints
+one JSON object.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from fsi.build import build  # noqa: E402
+from fsi.output import read_result  # noqa: E402
+from fsi.procedures import PROCEDURES  # noqa: E402
+from fsi.scene import load_scene, parse_scene  # noqa: E402
+from fsi.static_vs_dynamic import against_static, compare  # noqa: E402
+
+OUTPUT = Path(__file__).resolve().parent / "output"
+FILLS = [round(0.1 * k, 1) for k in range(1, 10)]
+STUB = "port stub"
+
+
+def run_scene(name: str, folder: Path) -> Path:
+    subprocess.run([sys.executable, "-m", "fsi.cli", "run", name, "--out", str(folder),
+                    "--no-plots"], check=True)
+    return folder
+
+
+def static_sweep(dynamic_scene):
+    """The volume sweep of the coupled scene's membrane (XPBD), up and down by 0.1."""
+    keys = {table: dict(dynamic_scene[table]) for table in ("tank", "membrane", "liquid")}
+    keys["structure"] = {"model": "xpbd"}
+    keys["sweep"] = {"scale": "tank", "fills": FILLS, "drain": True}
+    scene = load_scene("diaphragm-static").with_keys(keys)
+    return PROCEDURES["volume-sweep"](build(scene), lambda fraction, message: None)
+
+
+def bookkeeping(result: dict, setup) -> dict:
+    """Membrane and fluid (cut cells, without the port stub) against V0 + the port's integral
+    at the end, relative to the end volume."""
+    w, frames, a = result["windows"], result["frames"], result["attrs"]
+    delivered = w["delivered_volume"][-1]
+    port = setup.scene["port"]
+    stub = np.pi * port["radius"]**2 * port["length"]
+    fluid = w["fluid_liquid_volume"][-1] - stub
+    membrane = w["liquid_volume"][-1]
+    expected = a["start_volume"] + delivered
+    return dict(membrane=float((membrane - expected) / expected),
+                fluid=float((fluid - expected) / expected),
+                fluid_start=float((frames["fluid_liquid_volume"][0] - stub - a["start_volume"])
+                                  / a["start_volume"]))
+
+
+def leg(result: dict, static_frames: dict) -> dict:
+    setup = build(parse_scene(result["attrs"]["scene"]))
+    frames = result["frames"]
+    picks = [int(np.argmin(np.abs(frames["tank_fraction"] - f))) for f in FILLS]
+    picked = {k: v[picks] for k, v in frames.items() if hasattr(v, "shape") and len(v) == len(
+        frames["tank_fraction"])}
+    w, a = result["windows"], result["attrs"]
+    return dict(sweep=compare(frames, static_frames, setup.model, FILLS),
+                same_fold=against_static(setup, picked),
+                run_seconds=float(a["run_seconds"]), windows=int(a["windows_done"]),
+                windows_explicit=int(np.sum(w["explicit"])),
+                windows_with_inertia=int(a["windows_with_inertia"]),
+                windows_over_tolerance=int(a["windows_over_tolerance"]),
+                mean_coupling_iterations=float(a["mean_coupling_iterations"]),
+                failure=a["failure"], volume=bookkeeping(result, setup))
+
+
+def plot(out: dict):
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4))
+    for name, style in (("fill", "o-"), ("drain", "s--")):
+        for ref, colour in (("sweep", "tab:red"), ("same_fold", "tab:blue")):
+            rows = out[name][ref]
+            f = [r["fill"] for r in rows]
+            axes[0].semilogy(f, [max(r["eqn_6_1"], 1e-6) for r in rows], style, color=colour,
+                             label=f"{name}, against the {ref.replace('_', ' ')}")
+            axes[1].plot(f, [r["level_difference"] for r in rows], style, color=colour,
+                         label=f"{name}, {ref.replace('_', ' ')}")
+    axes[0].set_ylabel("Eqn 6.1 dynamic against static (%)")
+    axes[1].set_ylabel("pressure level, dynamic - static (Pa)")
+    for ax in axes:
+        ax.set_xlabel("tank fraction V / (4/3 pi R^3)")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].legend(fontsize=7)
+    fig.suptitle("thesis-fill and thesis-drain (2e-5 m^3/s, N = 14, 16^3) against the static "
+                 "model")
+    return fig
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--fill", type=Path)
+    parser.add_argument("--drain", type=Path)
+    args = parser.parse_args(argv)
+    logging.getLogger().setLevel(logging.ERROR)
+    OUTPUT.mkdir(exist_ok=True)
+    fill = read_result(args.fill or run_scene("thesis-fill", OUTPUT / "thesis-fill"))
+    drain = read_result(args.drain or run_scene("thesis-drain", OUTPUT / "thesis-drain"))
+    t0 = time.perf_counter()
+    static = static_sweep(load_scene("thesis-fill"))
+    static_seconds = time.perf_counter() - t0
+    out = dict(fill=leg(fill, static.groups["frames"]),
+               drain=leg(drain, static.groups["drain"]),
+               static_sweep_seconds=static_seconds)
+    (OUTPUT / "thesis_fill_drain.json").write_text(json.dumps(out, indent=1))
+    fig = plot(out)
+    fig.savefig(OUTPUT / "thesis_fill_drain.png", dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    print(json.dumps(out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
