@@ -1,14 +1,18 @@
-"""Command line: ``fsi run``, ``fsi compare``, ``fsi advise``, ``fsi scenes``.
+"""Command line: ``fsi run``, ``fsi compare``, ``fsi advise``, ``fsi show``, ``fsi scenes``.
 
     fsi run <bundled scene | scene.toml> --out DIR [--no-plots]
     fsi compare A B [--fill F] [--obj-scale S]
     fsi advise <bundled scene | scene.toml> [--accuracy PERCENT]
-    fsi scenes [--reference]
+    fsi show DIR
+    fsi scenes [NAME] [--reference]
+    fsi --version
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
+import signal
 import sys
 import time
 from pathlib import Path
@@ -60,27 +64,37 @@ class ProgressBar:
 
 
 def cmd_run(args) -> int:
+    from tqdm.contrib.logging import logging_redirect_tqdm
+
     from .build import build
     from .output import write_result
     from .plots import make_plots
+    from .run_folder import RunFolder
     from .scene import load_scene
 
+    folder = RunFolder(args.out, args.overwrite)  # before anything is computed
     scene = load_scene(args.scene)
     setup = build(scene)  # validates the time step before anything is written
     procedure = setup.procedure
     bar = ProgressBar(scene.name)
     t0 = time.perf_counter()
     try:
-        result = procedure(setup, bar)
+        with stop_on_signals(), logging_redirect_tqdm():  # logs on lines of their own
+            result = procedure(setup, bar)
     finally:
         bar.close()
     result.attrs["run_seconds"] = time.perf_counter() - t0
-    path = write_result(Path(args.out), scene, setup.model, result)
-    log.info("wrote %s (%.1f s)", path, result.attrs["run_seconds"])
+    write_result(folder.stage(), scene, setup.model, result)
+    if "interrupted" in result.attrs:
+        out = folder.commit()
+        name = signal.Signals(result.attrs["interrupted"]).name
+        print(f"fsi: interrupted by {name}: the work done is in '{out}' (no plots)",
+              file=sys.stderr)
+        return 128 + int(result.attrs["interrupted"])
     procedure.report(result)
-    if not args.no_plots:
-        plots = make_plots(args.out)
-        log.info("wrote %d plots in %s", len(plots), Path(args.out) / "plots")
+    plots = [] if args.no_plots else make_plots(folder.stage())
+    out = folder.commit()
+    log.info("wrote %s (%.1f s) and %d plots", out, result.attrs["run_seconds"], len(plots))
     if result.attrs.get("failure"):
         print(f"fsi: error: the run stopped early: {result.attrs['failure']}", file=sys.stderr)
         return 1
@@ -88,7 +102,48 @@ def cmd_run(args) -> int:
         print(f"fsi: error: the run's analysis failed: {result.attrs['analysis_failure']}",
               file=sys.stderr)
         return 1
+    unconverged = not_converged(result)
+    if unconverged:
+        print(f"fsi: warning: the run finished, but not everything converged: {unconverged} "
+              f"(results in '{out}')", file=sys.stderr)
+        return EXIT_NOT_CONVERGED
     return 0
+
+
+EXIT_NOT_CONVERGED = 3
+"""``fsi run``'s exit status when the run finished and was written but some fill, frame or
+window did not converge (0: all converged; 1: stopped early; 2: bad input)."""
+
+
+def not_converged(result) -> str:
+    """'' when every ``converged`` entry of every group and every ``*_converged`` attribute of
+    ``result`` holds; else what did not, e.g. '1 of 999 windows, start'."""
+    parts = [f"{int(np.sum(~np.asarray(g['converged'], dtype=bool)))} of {len(g['converged'])} "
+             f"{name}" for name, g in result.groups.items()
+             if "converged" in g and not np.all(g["converged"])]
+    parts += [key[:-len("_converged")] for key, value in result.attrs.items()
+              if key.endswith("_converged") and not bool(value)]
+    return ", ".join(parts)
+
+
+@contextlib.contextmanager
+def stop_on_signals():
+    """While inside: SIGINT and SIGTERM ask the run to stop at the end of its current unit of
+    work (:data:`fsi.lifecycle.STOP`); a second one stops at once."""
+    from .lifecycle import STOP
+
+    def ask(signum, frame):
+        if STOP.signal is not None:
+            raise KeyboardInterrupt
+        STOP.signal = signum
+
+    previous = {s: signal.signal(s, ask) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        STOP.signal = None
 
 
 class UsageError(Exception):
@@ -119,6 +174,21 @@ def _pick_frames(res: dict, fill, scale: str, label: str) -> list[int]:
     return [int(np.argmin(np.abs(values - fill)))]
 
 
+OBJ_SIZE_RATIO = 2.0
+"""A compared surface's largest distance from the tank axis must lie within this factor of
+the tank radius, or its units are taken to be wrong (-)."""
+
+
+def check_obj_size(points: np.ndarray, radius: float, path) -> None:
+    """Refuse a surface (m) whose reach from the axis is off the tank radius (m) by more than
+    OBJ_SIZE_RATIO: its units are not metres (--obj-scale)."""
+    reach = float(np.max(np.hypot(points[:, 0], points[:, 1]))) if len(points) else 0.0
+    if not radius / OBJ_SIZE_RATIO <= reach <= radius * OBJ_SIZE_RATIO:
+        raise UsageError(f"'{path}' reaches {reach:.4g} (after --obj-scale) from the axis, "
+                         f"the tank radius is {radius:.4g} m: give --obj-scale to convert "
+                         f"its units to m (e.g. 0.001 for mm)")
+
+
 def cmd_compare(args) -> int:
     from .compare import eqn_6_1_error, read_obj_surface
     from .output import read_result
@@ -128,8 +198,12 @@ def cmd_compare(args) -> int:
     frames = a["frames"]
     pick = _pick_frames(a, args.fill, args.scale, str(args.a))
     if str(args.b).lower().endswith(".obj"):
+        if not args.obj_scale > 0:
+            raise UsageError(f"--obj-scale {args.obj_scale}: a scale from .obj units to m is "
+                             f"> 0")
         points, faces = read_obj_surface(args.b)
         points = points * args.obj_scale
+        check_obj_size(points, radius, args.b)
         print("tank A   Eqn 6.1 error (%)  vs " + str(args.b))
         for k in pick:
             e = eqn_6_1_error(points, faces, frames["node_position"][k], radius)
@@ -156,8 +230,11 @@ def cmd_compare(args) -> int:
 
 
 def cmd_scenes(args) -> int:
-    from .scene import bundled_scenes, load_scene, reference_markdown
+    from .scene import bundled_scenes, bundled_text, load_scene, reference_markdown
 
+    if args.name:
+        print(bundled_text(args.name), end="")
+        return 0
     if args.reference:
         print(reference_markdown())
         return 0
@@ -180,15 +257,45 @@ def cmd_advise(args) -> int:
     return 0
 
 
+def cmd_show(args) -> int:
+    from .lifecycle import RunResult
+    from .output import read_result
+
+    res = read_result(args.run)
+    a = res["attrs"]
+    groups = {k: v for k, v in res.items() if k not in ("attrs", "membrane")}
+    print(f"{args.run}: scene {a.get('scene_name', '?')}, procedure {a.get('procedure', '?')}, "
+          f"written by slosh-fsi {a.get('software_version', 'before 0.1.0')}")
+    for name, g in groups.items():
+        n = len(next(iter(g.values()))) if g else 0
+        span = (f", t = {g['time'][0]:.4g} ... {g['time'][-1]:.4g} s" if "time" in g and n
+                else "")
+        fills = (f", tank fraction {g['tank_fraction'][0]:.3f} ... "
+                 f"{g['tank_fraction'][-1]:.3f}" if "tank_fraction" in g and n else "")
+        print(f"  {name}: {n} records{span}{fills}")
+    unconverged = not_converged(RunResult(groups=groups, attrs=a))
+    print(f"  converged: {'all' if not unconverged else 'not ' + unconverged}")
+    print(f"  failure: {a.get('failure') or 'none'}; wall {float(a.get('run_seconds', np.nan)):.1f} s")
+    return 0
+
+
 def main(argv=None) -> int:
+    from .output import software_version
+    from .run_folder import OutputError
     from .scene import SceneError
 
     parser = argparse.ArgumentParser(prog="fsi", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version",
+                        version=f"slosh-fsi {software_version()}")
+    parser.add_argument("-v", "--verbose", action="store_true",
+                        help="show the libraries' INFO messages too (FiPy's)")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("run", help="run a scene and write results and plots")
     p.add_argument("scene", help="bundled scene name or path to a .toml scene file")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing results folder whole")
     p.set_defaults(func=cmd_run)
     p = sub.add_parser("compare", help="Eqn 6.1 error per fill between two results, "
                                        "or a result and a Wavefront .obj surface")
@@ -209,14 +316,21 @@ def main(argv=None) -> int:
                    help="largest acceptable shape difference from the coupled model, "
                         "% Eqn 6.1 (default 1)")
     p.set_defaults(func=cmd_advise)
-    p = sub.add_parser("scenes", help="list bundled scenes")
+    p = sub.add_parser("scenes", help="list bundled scenes, or print one to copy")
+    p.add_argument("name", nargs="?", help="print this bundled scene's TOML")
     p.add_argument("--reference", action="store_true", help="print the scene key reference")
     p.set_defaults(func=cmd_scenes)
+    p = sub.add_parser("show", help="summarise a result: scene, procedure, records, "
+                                    "convergence, failure, version")
+    p.add_argument("run", help="result folder or result.h5")
+    p.set_defaults(func=cmd_show)
     args = parser.parse_args(argv)
-    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        format="%(levelname)s %(name)s: %(message)s")
+    logging.getLogger("fsi").setLevel(logging.INFO)
     try:
         return args.func(args)
-    except (SceneError, UsageError, FileNotFoundError) as exc:
+    except (SceneError, UsageError, OutputError, FileNotFoundError) as exc:
         print(f"fsi: error: {exc}", file=sys.stderr)
         return 2
 

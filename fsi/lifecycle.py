@@ -55,6 +55,27 @@ def membrane_frame(setup, scale: FillScale, node_position: np.ndarray,
                 equivalent_height=setup.liquid.equivalent_height(pressure_level))
 
 
+class StopRequest:
+    """A signal asking the running procedure to stop at the end of its current unit of work
+    (window, step or fill): ``signal`` is its number, None while none came."""
+
+    def __init__(self):
+        self.signal: Optional[int] = None
+
+
+STOP = StopRequest()
+"""Set by ``fsi run``'s SIGINT/SIGTERM handler, read by :meth:`Run.progress`."""
+
+
+class Interrupted(Exception):
+    """Raised by :meth:`Run.progress` after a stop was requested: ``run`` is the
+    :class:`Run` with the work done, ``signal`` the signal's number."""
+
+    def __init__(self, run: "Run", signal: int):
+        super().__init__(f"interrupted by signal {signal}")
+        self.run, self.signal = run, signal
+
+
 class Run:
     """One run of a procedure: ``total`` units of work (fills, steps or windows), frames
     every ``frame_interval`` units (and at the last), wall time from construction."""
@@ -79,7 +100,12 @@ class Run:
         self.groups.setdefault(group, []).append(record)
 
     def progress(self, done: float, message: str) -> None:
+        """Report ``done`` units of work; raises :class:`Interrupted` when a stop was
+        requested (:data:`STOP`): called after each unit is recorded, so the run stops
+        between units."""
         self._progress(done / self.total, message)
+        if STOP.signal is not None:
+            raise Interrupted(self, STOP.signal)
 
     def stop(self, reason: str) -> None:
         """The run ends early: ``reason`` is logged and written as the result's ``failure``."""

@@ -65,10 +65,23 @@ def units_of(name: str) -> str:
 
 RESULT_FILE = "result.h5"
 XDMF_FILE = "frames.xdmf"
+XDMF_FILES = {"frames": XDMF_FILE, "drain": "drain.xdmf"}
+"""Groups written as ParaView time series (the fill leg and a static sweep's draining leg)."""
+
+
+def software_version() -> str:
+    """This package's version (its metadata; 'unknown' when not installed)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("slosh-fsi")
+    except PackageNotFoundError:
+        return "unknown"
 
 
 def write_result(out_dir: Path, scene, model, result) -> Path:
-    """Write ``result.h5`` and ``frames.xdmf`` (+ its ``frames.h5``) into ``out_dir``."""
+    """Write ``result.h5`` and ``frames.xdmf`` (+ its ``frames.h5``; ``drain.xdmf`` for a
+    draining leg) into ``out_dir``, with the software version."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".partial-", dir=out_dir))
@@ -79,6 +92,7 @@ def write_result(out_dir: Path, scene, model, result) -> Path:
             f.attrs["procedure"] = scene["scene"]["procedure"]
             f.attrs["radius"] = model.radius
             f.attrs["grid_size"] = model.grid_size
+            f.attrs["software_version"] = software_version()
             for k, v in result.attrs.items():
                 f.attrs[k] = v
             g = f.create_group("membrane")
@@ -86,13 +100,16 @@ def write_result(out_dir: Path, scene, model, result) -> Path:
             g["face_nodes"] = model.face_nodes
             g["fixed"] = model.node_fixed
             g["rest_position"].attrs["units"] = "m"
+            g["face_nodes"].attrs["units"] = "1 (node indices)"
+            g["fixed"].attrs["units"] = "1 (true: a support node)"
             for name, frames in result.groups.items():
                 grp = f.create_group(name)
                 for key, arr in frames.items():
                     ds = grp.create_dataset(key, data=arr)
                     ds.attrs["units"] = units_of(key)
-        if "node_position" in result.groups.get("frames", {}):
-            _write_xdmf(tmp, model, result.groups["frames"])
+        for group, name in XDMF_FILES.items():
+            if "node_position" in result.groups.get(group, {}):
+                _write_xdmf(tmp, model, result.groups[group], name)
         for p in tmp.iterdir():
             os.replace(p, out_dir / p.name)
     finally:
@@ -100,12 +117,12 @@ def write_result(out_dir: Path, scene, model, result) -> Path:
     return out_dir / RESULT_FILE
 
 
-def _write_xdmf(folder: Path, model, frames: dict) -> None:
+def _write_xdmf(folder: Path, model, frames: dict, name: str) -> None:
     cells = [("quad", model.face_nodes)]
     cwd = os.getcwd()
     os.chdir(folder)  # meshio names its heavy-data file relative to the working folder
     try:
-        with meshio.xdmf.TimeSeriesWriter(XDMF_FILE) as writer:
+        with meshio.xdmf.TimeSeriesWriter(name) as writer:
             writer.write_points_cells(model.node_rest_position, cells)
             for k in range(frames["node_position"].shape[0]):
                 disp = frames["node_position"][k] - model.node_rest_position

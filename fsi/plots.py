@@ -90,10 +90,13 @@ FILE_TAGS = {"full-inversion": "fill", "tank": "tank"}
 
 def fill_label(group: dict, k: int, scale: str) -> str:
     """How a frame's fill is titled: its tank fraction V / (4/3 pi R^3), and on the thesis's
-    scale the fill of the full inversion beside it."""
+    scale the fill of the full inversion beside it; a frame whose solve (or window) did not
+    converge says so."""
     text = f"tank fraction {float(group['tank_fraction'][k]):.3f}"
     if scale == "full-inversion":
         text += f" (fill {100 * float(group['fill_fraction'][k]):.1f} % of the full inversion)"
+    if "converged" in group and not bool(group["converged"][k]):
+        text += " - NOT CONVERGED"
     return text
 
 

@@ -100,8 +100,16 @@ class Procedure:
     report: Callable[[Any], None] = _nothing
 
     def __call__(self, setup, progress):
-        """Run the procedure: ``progress(fraction, message)`` is called as it goes."""
-        return self.run(setup, progress)
+        """Run the procedure: ``progress(fraction, message)`` is called as it goes. A run
+        interrupted between units of work (:class:`fsi.lifecycle.Interrupted`) returns what
+        it recorded, with ``interrupted`` (the signal's number) and ``failure`` set."""
+        from .lifecycle import Interrupted
+
+        try:
+            return self.run(setup, progress)
+        except Interrupted as stop:
+            stop.run.failure = f"interrupted by signal {stop.signal}"
+            return stop.run.result(interrupted=stop.signal)
 
 
 PROCEDURES: dict[str, Procedure] = {}

@@ -202,17 +202,26 @@ def bundled_scenes() -> list[str]:
 
 
 def load_scene(name_or_path: str) -> Scene:
-    """Load a bundled scene by name, or a scene file by path; validates it."""
+    """Load a scene file by path, or a bundled scene by name; validates it. A path wins only
+    when it is a file (or names a .toml): a folder named like a bundled scene does not hide
+    it."""
     path = Path(name_or_path)
-    if path.suffix == ".toml" or path.exists():
+    if path.is_file() or (path.suffix == ".toml" and name_or_path not in bundled_scenes()):
         if not path.is_file():
             raise SceneError(f"scene file '{path}' not found")
         return parse_scene(path.read_text(), str(path))
     if name_or_path not in bundled_scenes():
         raise SceneError(f"unknown scene '{name_or_path}': not a file, and not one of the bundled "
                          f"scenes {bundled_scenes()}")
-    text = resources.files("fsi.scenes").joinpath(f"{name_or_path}.toml").read_text()
-    return parse_scene(text, f"bundled:{name_or_path}")
+    return parse_scene(bundled_text(name_or_path), f"bundled:{name_or_path}")
+
+
+def bundled_text(name: str) -> str:
+    """The TOML text of bundled scene ``name``."""
+    if name not in bundled_scenes():
+        raise SceneError(f"unknown scene '{name}': not one of the bundled scenes "
+                         f"{bundled_scenes()}")
+    return resources.files("fsi.scenes").joinpath(f"{name}.toml").read_text()
 
 
 def reference_markdown() -> str:

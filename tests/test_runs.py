@@ -87,6 +87,22 @@ def test_compare_to_itself_and_to_shifted_obj(ramp_runs, tmp_path, capsys):
     assert main(["compare", str(ramp_runs[0]), str(ramp_runs[1])]) == 0
     rows = capsys.readouterr().out.strip().splitlines()[1:]
     assert len(rows) == 3 and all(float(r.split()[2]) == 0.0 for r in rows)
+    # the same scan in mm without --obj-scale, or with a scale <= 0: refused (exit 2), with
+    # --obj-scale 0.001 the same error as in m
+    mm = tmp_path / "scan_mm.obj"
+    with open(mm, "w") as f:
+        for p in 1000.0 * shifted:
+            f.write(f"v {p[0]:.12e} {p[1]:.12e} {p[2]:.12e}\n")
+        for q in faces + 1:
+            f.write("f " + " ".join(map(str, q)) + "\n")
+    assert main(["compare", str(ramp_runs[0]), str(mm), "--fill", "1.0"]) == 2
+    assert "--obj-scale" in capsys.readouterr().err
+    assert main(["compare", str(ramp_runs[0]), str(mm), "--obj-scale", "-1"]) == 2
+    capsys.readouterr()
+    assert main(["compare", str(ramp_runs[0]), str(mm), "--fill", "1.0",
+                 "--obj-scale", "0.001"]) == 0
+    out = capsys.readouterr().out.strip().splitlines()[-1].split()
+    assert float(out[1]) == pytest.approx(expected, rel=1e-6)
 
 
 def test_bad_scene_writes_nothing(tmp_path):

@@ -1,0 +1,69 @@
+"""The results folder of ``fsi run``: checked before anything is computed, filled in a
+staging folder beside it, and put in place whole.
+
+* ``--out DIR`` must not be a file, its parent must be writable, and an existing folder that
+  holds anything is refused unless ``--overwrite`` (which replaces it whole: no stale plots
+  of an earlier run stay beside new ones);
+* the result and its plots are written into ``.partial-<name>-*`` beside DIR; only when both
+  are complete is it renamed to DIR (the earlier DIR, with ``--overwrite``, moved aside
+  first and removed after).  A run that dies leaves DIR as it was and a ``.partial-``
+  folder that says what it is.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+STAGING_PREFIX = ".partial-"
+"""Name prefix of a run folder being written (an incomplete run when one is left)."""
+
+
+class OutputError(Exception):
+    """``--out`` cannot take a run: one line on stderr, exit status 2."""
+
+
+class RunFolder:
+    """``out``: the results folder asked for; ``overwrite``: replace an existing one."""
+
+    def __init__(self, out, overwrite: bool = False):
+        self.out = Path(out)
+        self.overwrite = overwrite
+        self.staging: Path | None = None
+        self.check()
+
+    def check(self) -> None:
+        """Raise :class:`OutputError` when ``out`` cannot take a run (module doc)."""
+        out = self.out
+        if out.exists() and not out.is_dir():
+            raise OutputError(f"--out '{out}' is a file; give a folder")
+        if out.is_dir() and any(out.iterdir()) and not self.overwrite:
+            raise OutputError(f"--out '{out}' already holds files; give a new folder or "
+                              f"--overwrite to replace it whole")
+        parent = out.resolve().parent
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+            probe = tempfile.NamedTemporaryFile(dir=parent, prefix=STAGING_PREFIX)
+            probe.close()
+        except OSError as err:
+            raise OutputError(f"--out '{out}': cannot write in '{parent}' ({err.strerror})")
+
+    def stage(self) -> Path:
+        """The staging folder beside ``out`` (made on first call)."""
+        if self.staging is None:
+            self.staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{self.out.name}-",
+                                                 dir=self.out.resolve().parent))
+        return self.staging
+
+    def commit(self) -> Path:
+        """Put the staged run in place of ``out`` (an earlier one removed); returns ``out``."""
+        old = None
+        if self.out.exists():
+            old = Path(tempfile.mkdtemp(prefix=".replaced-", dir=self.out.resolve().parent))
+            os.replace(self.out, old / "run")
+        os.replace(self.stage(), self.out)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+        self.staging = None
+        return self.out

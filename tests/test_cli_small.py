@@ -1,0 +1,68 @@
+"""The CLI's small things: --version, printing a bundled scene, fsi show, a folder named like
+a bundled scene, units and the version in result.h5, the draining leg in ParaView."""
+import subprocess
+import sys
+
+import h5py
+import meshio
+import pytest
+
+from fsi.cli import main
+from fsi.output import software_version
+from fsi.scene import load_scene, parse_scene
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    assert capsys.readouterr().out.strip() == f"slosh-fsi {software_version()}"
+    assert software_version() not in ("", "unknown")
+
+
+def test_scenes_name_prints_a_bundled_scene_that_parses_to_the_same(capsys):
+    assert main(["scenes", "thesis-fill"]) == 0
+    text = capsys.readouterr().out
+    assert parse_scene(text).values == load_scene("thesis-fill").values
+    assert main(["scenes", "no-such-scene"]) == 2
+
+
+def test_a_folder_named_like_a_bundled_scene_does_not_hide_it(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "thesis-static").mkdir()  # e.g. a results folder
+    assert load_scene("thesis-static").name == "thesis-static"
+
+
+def test_a_static_sweep_writes_units_version_and_its_draining_leg(tmp_path, capsys):
+    scene = tmp_path / "sweep.toml"
+    scene.write_text("[scene]\nname = 'tiny'\nprocedure = 'volume-sweep'\n[membrane]\n"
+                     "grid_size = 8\n[structure]\nmodel = 'xpbd'\n[sweep]\nscale = 'tank'\n"
+                     "fills = [0.1, 0.2]\ndrain = true\n")
+    out = tmp_path / "run"
+    assert main(["run", str(scene), "--out", str(out), "--no-plots"]) in (0, 3)
+    with h5py.File(out / "result.h5") as f:
+        assert f.attrs["software_version"] == software_version()
+        missing = []
+        f.visititems(lambda name, obj: missing.append(name)
+                     if isinstance(obj, h5py.Dataset) and "units" not in obj.attrs else None)
+        assert missing == []
+    reader = meshio.xdmf.TimeSeriesReader(str(out / "drain.xdmf"))
+    reader.read_points_cells()
+    assert reader.num_steps == 2
+    capsys.readouterr()
+    assert main(["show", str(out)]) == 0
+    shown = capsys.readouterr().out
+    assert "scene tiny, procedure volume-sweep" in shown and "drain: 2 records" in shown
+    assert software_version() in shown
+
+
+def test_only_our_own_info_lines_by_default(tmp_path):
+    """Libraries' INFO messages (FiPy's solver choice among them) only with -v."""
+    scene = tmp_path / "fill.toml"
+    scene.write_text("[scene]\nprocedure = 'coupled-fill'\n[dynamics]\nend_time = 0.002\n")
+    run = subprocess.run([sys.executable, "-m", "fsi.cli", "run", str(scene), "--out",
+                          str(tmp_path / "a"), "--no-plots"], capture_output=True, text=True)
+    assert run.returncode == 0
+    info = [line for line in run.stderr.splitlines() if line.startswith("INFO ")]
+    assert info and all(line.startswith("INFO fsi") for line in info)
+    assert main(["-v", "scenes"]) == 0

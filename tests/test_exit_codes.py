@@ -1,0 +1,33 @@
+"""fsi run's exit status says whether everything converged (README, 'Exit status')."""
+import numpy as np
+
+from fsi.cli import EXIT_NOT_CONVERGED, main, not_converged
+from fsi.lifecycle import RunResult
+from fsi.output import read_result
+from fsi.plots import fill_label
+
+
+def test_not_converged_names_each_group_and_attribute():
+    result = RunResult(groups={"frames": {"converged": np.array([True, False, True])},
+                               "windows": {"converged": np.array([True] * 5)}},
+                       attrs={"start_converged": False, "all_converged": True})
+    assert not_converged(result) == "1 of 3 frames, start"
+    ok = RunResult(groups={"frames": {"converged": np.array([True])}}, attrs={})
+    assert not_converged(ok) == ""
+
+
+def test_a_run_with_an_unconverged_window_exits_3_and_keeps_its_result(tmp_path, capsys):
+    """Two coupling iterations cannot converge a window of the bundled fill: the windows are
+    accepted, the result is written, the exit status is 3 and stderr says what."""
+    scene = tmp_path / "fill.toml"
+    scene.write_text("[scene]\nprocedure = 'coupled-fill'\n[dynamics]\nend_time = 0.004\n"
+                     "frame_interval = 1\n[coupling]\nmax_iterations = 2\n"
+                     "on_max_iterations = 'accept'\n")
+    out = tmp_path / "run"
+    assert main(["run", str(scene), "--out", str(out)]) == EXIT_NOT_CONVERGED == 3
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "not everything converged: 2 of 3 frames, 2 of 2 windows" in err
+    res = read_result(out)
+    assert not res["windows"]["converged"].any()
+    assert fill_label(res["frames"], 1, "tank").endswith("NOT CONVERGED")
+    assert (out / "plots" / "coupling.png").is_file()
