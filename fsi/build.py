@@ -14,6 +14,7 @@ from structure.model import Material, MembraneModel, hemisphere_model
 from structure.statics import RelaxationSettings
 from structure.thesis import ConstraintSettings
 
+from .limits import check_memory
 from .models import choose_model
 from .registry import PROCEDURES, Procedure
 
@@ -52,6 +53,7 @@ def build(scene) -> Setup:
     :class:`fsi.registry.SceneError` naming the key)."""
     procedure = PROCEDURES[scene["scene"]["procedure"]]
     m, c = scene["membrane"], scene["constraints"]
+    check_memory(m["grid_size"])
     material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"])
     model = hemisphere_model(m["grid_size"], scene["tank"]["radius"], material, m["support"])
     liquid = HydrostaticLiquid(scene["liquid"]["density"],

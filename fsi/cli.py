@@ -91,6 +91,11 @@ def cmd_run(args) -> int:
         print(f"fsi: interrupted by {name}: the work done is in '{out}' (no plots)",
               file=sys.stderr)
         return 128 + int(result.attrs["interrupted"])
+    if "solver_failure" in result.attrs:
+        out = folder.commit()
+        print(f"fsi: error: the run stopped: {result.attrs['failure']}; the work done is in "
+              f"'{out}' (no plots)", file=sys.stderr)
+        return 1
     procedure.report(result)
     plots = [] if args.no_plots else make_plots(folder.stage())
     out = folder.commit()
@@ -189,11 +194,52 @@ def check_obj_size(points: np.ndarray, radius: float, path) -> None:
                          f"its units to m (e.g. 0.001 for mm)")
 
 
-def cmd_compare(args) -> int:
-    from .compare import eqn_6_1_error, read_obj_surface
+def read_run(path) -> dict:
+    """A result for ``fsi compare``/``show``; :class:`UsageError` naming the file when it is
+    not one."""
     from .output import read_result
 
-    a = read_result(args.a)
+    try:
+        res = read_result(path)
+        if not ("frames" in res and "node_position" in res["frames"]) and "radius" not in \
+                res["attrs"]:
+            raise KeyError("no frames and no radius")
+    except FileNotFoundError:
+        raise
+    except (OSError, KeyError, ValueError) as err:
+        raise UsageError(f"'{path}' is not a slosh-fsi result ({err})") from None
+    return res
+
+
+def read_obj(path):
+    """Vertices (m, unscaled) and faces of a .obj surface; :class:`UsageError` naming the
+    file when it cannot be read as one."""
+    import meshio
+
+    from .compare import read_obj_surface
+
+    try:
+        points, faces = read_obj_surface(path)
+        if points.ndim != 2 or points.shape[1] != 3 or len(points) == 0 or faces.size == 0 \
+                or faces.min() < 0 or faces.max() >= len(points) \
+                or not np.all(np.isfinite(points)):
+            raise ValueError("vertices need 3 finite coordinates, and every face 3 or 4 "
+                             "vertices that exist")
+    except FileNotFoundError:
+        raise
+    except (meshio.ReadError, OSError, ValueError, IndexError, KeyError,
+            UnicodeDecodeError) as err:
+        raise UsageError(f"'{path}' is not a readable Wavefront .obj surface ({err})") \
+            from None
+    return points, faces
+
+
+def cmd_compare(args) -> int:
+    from .compare import eqn_6_1_error
+
+    a = read_run(args.a)
+    if "frames" not in a or "node_position" not in a["frames"]:
+        raise UsageError(f"'{args.a}' has no membrane frames to compare")
     radius = float(a["attrs"]["radius"])
     frames = a["frames"]
     pick = _pick_frames(a, args.fill, args.scale, str(args.a))
@@ -201,7 +247,7 @@ def cmd_compare(args) -> int:
         if not args.obj_scale > 0:
             raise UsageError(f"--obj-scale {args.obj_scale}: a scale from .obj units to m is "
                              f"> 0")
-        points, faces = read_obj_surface(args.b)
+        points, faces = read_obj(args.b)
         points = points * args.obj_scale
         check_obj_size(points, radius, args.b)
         print("tank A   Eqn 6.1 error (%)  vs " + str(args.b))
@@ -209,7 +255,9 @@ def cmd_compare(args) -> int:
             e = eqn_6_1_error(points, faces, frames["node_position"][k], radius)
             print(f"{frames['tank_fraction'][k]:6.3f}  {e:10.4f}")
         return 0
-    b = read_result(args.b)
+    b = read_run(args.b)
+    if "frames" not in b or "node_position" not in b["frames"]:
+        raise UsageError(f"'{args.b}' has no membrane frames to compare")
     faces = b["membrane"]["face_nodes"]
     b_tank = b["frames"]["tank_fraction"]
     print("tank A  tank B   Eqn 6.1 error (%)   (B's frame nearest in tank fraction "
@@ -259,9 +307,8 @@ def cmd_advise(args) -> int:
 
 def cmd_show(args) -> int:
     from .lifecycle import RunResult
-    from .output import read_result
 
-    res = read_result(args.run)
+    res = read_run(args.run)
     a = res["attrs"]
     groups = {k: v for k, v in res.items() if k not in ("attrs", "membrane")}
     print(f"{args.run}: scene {a.get('scene_name', '?')}, procedure {a.get('procedure', '?')}, "

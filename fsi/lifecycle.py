@@ -80,7 +80,11 @@ class Run:
     """One run of a procedure: ``total`` units of work (fills, steps or windows), frames
     every ``frame_interval`` units (and at the last), wall time from construction."""
 
+    current: Optional["Run"] = None
+    """The run most recently started (what a procedure stopped by a solver's error did)."""
+
     def __init__(self, progress: Progress, total: int, frame_interval: Optional[int] = None):
+        Run.current = self
         self._progress = progress
         self.total = max(int(total), 1)
         self.frame_interval = frame_interval

@@ -101,15 +101,33 @@ class Procedure:
 
     def __call__(self, setup, progress):
         """Run the procedure: ``progress(fraction, message)`` is called as it goes. A run
-        interrupted between units of work (:class:`fsi.lifecycle.Interrupted`) returns what
-        it recorded, with ``interrupted`` (the signal's number) and ``failure`` set."""
-        from .lifecycle import Interrupted
+        interrupted between units of work (:class:`fsi.lifecycle.Interrupted`), or stopped by
+        a solver's error the procedure did not handle (:func:`solver_failures`), returns
+        what it recorded, with ``interrupted`` (the signal's number) or ``solver_failure``
+        (the error's type) and ``failure`` set."""
+        from .lifecycle import Interrupted, Run
 
+        Run.current = None
         try:
             return self.run(setup, progress)
         except Interrupted as stop:
             stop.run.failure = f"interrupted by signal {stop.signal}"
             return stop.run.result(interrupted=stop.signal)
+        except solver_failures() as err:
+            if Run.current is None:
+                raise
+            Run.current.failure = f"{type(err).__name__}: {err}"
+            return Run.current.result(solver_failure=type(err).__name__)
+
+
+def solver_failures() -> tuple:
+    """Errors of the solvers that end a run (time step, divergence, coupling), as opposed to
+    errors in the code."""
+    from coupling import CouplingError
+    from structure.thesis import CourantError
+    from structure.xpbd import XpbdDivergence
+
+    return CourantError, XpbdDivergence, CouplingError
 
 
 PROCEDURES: dict[str, Procedure] = {}

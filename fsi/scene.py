@@ -209,11 +209,36 @@ def load_scene(name_or_path: str) -> Scene:
     if path.is_file() or (path.suffix == ".toml" and name_or_path not in bundled_scenes()):
         if not path.is_file():
             raise SceneError(f"scene file '{path}' not found")
-        return parse_scene(path.read_text(), str(path))
+        return parse_scene(read_text(path), str(path))
     if name_or_path not in bundled_scenes():
         raise SceneError(f"unknown scene '{name_or_path}': not a file, and not one of the bundled "
                          f"scenes {bundled_scenes()}")
     return parse_scene(bundled_text(name_or_path), f"bundled:{name_or_path}")
+
+
+def read_text(path: Path) -> str:
+    """A scene file's text: UTF-8, not empty (:class:`SceneError` naming the file)."""
+    data = path.read_bytes()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise SceneError(f"scene file '{path}' is not UTF-8 text (byte {err.start}); save it "
+                         f"as UTF-8 TOML") from None
+    if "\x00" in text:
+        raise SceneError(f"scene file '{path}' holds NUL characters: not a TOML text file")
+    if not tomllib_loads_anything(text):
+        raise SceneError(f"scene file '{path}' is empty: start from a bundled scene, e.g. "
+                         f"'fsi scenes thesis-static > {path.name}'")
+    return text
+
+
+def tomllib_loads_anything(text: str) -> bool:
+    """Whether ``text`` holds anything but blanks and comments (invalid TOML counts: its
+    error is parse_scene's to name)."""
+    try:
+        return bool(tomllib.loads(text))
+    except tomllib.TOMLDecodeError:
+        return True
 
 
 def bundled_text(name: str) -> str:

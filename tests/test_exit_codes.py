@@ -31,3 +31,31 @@ def test_a_run_with_an_unconverged_window_exits_3_and_keeps_its_result(tmp_path,
     assert not res["windows"]["converged"].any()
     assert fill_label(res["frames"], 1, "tank").endswith("NOT CONVERGED")
     assert (out / "plots" / "coupling.png").is_file()
+
+
+def test_a_solver_error_mid_run_is_one_line_and_keeps_the_work(tmp_path, capsys, monkeypatch):
+    """A Courant failure after the up-front check passed (as a 2000-node-per-side grid does
+    after 24 s) stops the run: exit 1, one line, the steps done written, no traceback."""
+    import fsi.procedures.thesis_ramp as ramp
+    from structure.thesis import CourantError
+    from tests.test_runs import RAMP
+
+    calls = {"n": 0}
+    real = ramp.step
+
+    def failing(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] > 120:
+            raise CourantError("Courant number 1.7 > 1 at node 3: reduce dt (thesis Eqn 4.7)")
+        return real(*args, **kwargs)
+    monkeypatch.setattr(ramp, "step", failing)
+    scene = tmp_path / "ramp.toml"
+    scene.write_text(RAMP)
+    out = tmp_path / "run"
+    capsys.readouterr()
+    assert main(["run", str(scene), "--out", str(out)]) == 1
+    err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("fsi:")]
+    assert len(err) == 1 and "CourantError: Courant number 1.7" in err[0]
+    res = read_result(out)
+    assert res["attrs"]["solver_failure"] == "CourantError"
+    assert len(res["history"]["time"]) == 2  # frames every 50 steps: steps 50 and 100
