@@ -7,9 +7,10 @@ from .acceleration import ACCELERATIONS, AccelerationSettings, register_accelera
 from .convergence import ConvergenceMeasure
 from .participant import Participant
 from .scheme import (EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES, CouplingError,
-                     CouplingLog, CouplingSettings, WindowLog, register_scheme, run)
+                     CouplingLog, CouplingSettings, Loop, WindowLog, advance, register_scheme,
+                     run, start)
 
 __all__ = ["ACCELERATIONS", "AccelerationSettings", "register_acceleration",
            "ConvergenceMeasure", "Participant", "EXTRAPOLATION_WEIGHTS", "ON_MAX_ITERATIONS",
            "SCHEMES", "CouplingError", "CouplingLog", "CouplingSettings", "WindowLog",
-           "register_scheme", "run"]
+           "register_scheme", "run", "start", "advance", "Loop"]

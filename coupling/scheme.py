@@ -170,39 +170,75 @@ def run(first: Participant, second: Participant, settings: CouplingSettings, dt:
 
     ``on_window(window_log, data)`` is called after each window with the converged fields of
     both participants. ``next_window(window_log, data)``, when given, is called just before
-    it and returns the next window's size (s), or None to stop (windows of varying size; ``n_windows`` is then the
-    most); if it also has ``retry(window_log)``, a window that raises :class:`CouplingError`
-    is redone from its start (both participants restored, the acceleration's memory of past
-    windows dropped) at the size that returns, until it returns None.
-    Returns the :class:`CouplingLog`.
+    it and returns the next window's size (s), or None to stop (windows of varying size;
+    ``n_windows`` is then the most); if it also has ``retry(window_log)``, a window that
+    raises :class:`CouplingError` is redone from its start (both participants restored, the
+    acceleration's memory of past windows dropped) at the size that returns, until it
+    returns None. Returns the :class:`CouplingLog`. The same, a window at a time:
+    :func:`start` and :func:`advance`.
     """
+    loop = start(first, second, settings, dt, n_windows, t0)
+    while advance(loop, first, second, on_window, next_window):
+        pass
+    return loop.log
+
+
+@dataclass
+class Loop:
+    """A coupled run between two windows: all that :func:`advance` carries from one window
+    to the next (the acceleration's memory, the converged fields of past windows for the
+    prediction, time, window size and count, the log). Pickled with both participants it is
+    a checkpoint: the run continues from it as if never stopped."""
+
+    settings: CouplingSettings
+    acceleration: object
+    history: list
+    t0: float
+    t: float
+    dt: Optional[float]
+    k: int
+    n_windows: int
+    log: CouplingLog
+    done: bool = False
+
+
+def start(first: Participant, second: Participant, settings: CouplingSettings, dt: float,
+          n_windows: int, t0: float = 0.0) -> Loop:
+    """The :class:`Loop` before the first window (arguments as :func:`run`'s)."""
     _check_window(dt)
     data = {**{k: np.asarray(v, dtype=np.float64) for k, v in first.initial_data().items()},
             **{k: np.asarray(v, dtype=np.float64) for k, v in second.initial_data().items()}}
-    acceleration = ACCELERATIONS[settings.acceleration](settings.acceleration_settings)
-    iterate = SCHEMES[settings.scheme]
-    coupling_log = CouplingLog()
-    history = [data]  # converged fields of past windows, newest first
-    t = t0
-    for k in range(n_windows):
-        window, data, dt = _window(first, second, settings, acceleration, iterate,
-                                   _extrapolate(history, settings.extrapolation_order), k,
-                                   t0 + k * dt if next_window is None else t, dt,
-                                   getattr(next_window, "retry", None))
-        history = [data] + history[:settings.extrapolation_order]
-        coupling_log.windows.append(window)
-        log.debug("window %d: %d iterations, converged %s", k, window.iterations,
-                  window.converged)
-        if next_window is not None:  # before on_window, which may report what it found
-            t = window.time + dt
-            dt = next_window(window, data)
-        if on_window is not None:
-            on_window(window, data)
-        if next_window is not None:
-            if dt is None:
-                break
-            _check_window(dt)
-    return coupling_log
+    return Loop(settings, ACCELERATIONS[settings.acceleration](settings.acceleration_settings),
+                [data], t0, t0, dt, 0, n_windows, CouplingLog())
+
+
+def advance(loop: Loop, first: Participant, second: Participant,
+            on_window: Optional[Callable] = None, next_window: Optional[Callable] = None) -> bool:
+    """One window of ``loop`` (callbacks as :func:`run`'s); False, doing nothing, once the
+    run is over."""
+    if loop.done or loop.k >= loop.n_windows:
+        return False
+    s, k = loop.settings, loop.k
+    window, data, dt = _window(first, second, s, loop.acceleration, SCHEMES[s.scheme],
+                               _extrapolate(loop.history, s.extrapolation_order), k,
+                               loop.t0 + k * loop.dt if next_window is None else loop.t,
+                               loop.dt, getattr(next_window, "retry", None))
+    loop.history = [data] + loop.history[:s.extrapolation_order]
+    loop.log.windows.append(window)
+    loop.k += 1
+    log.debug("window %d: %d iterations, converged %s", k, window.iterations,
+              window.converged)
+    if next_window is not None:  # before on_window, which may report what it found
+        loop.t = window.time + dt
+        loop.dt = next_window(window, data)
+    if on_window is not None:
+        on_window(window, data)
+    if next_window is not None:
+        if loop.dt is None:
+            loop.done = True
+        else:
+            _check_window(loop.dt)
+    return True
 
 
 def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt, retry):

@@ -8,6 +8,8 @@ run here, before anything is computed or written.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Optional
 
 from fluid.hydrostatic import HydrostaticLiquid
 from structure.model import Material, MembraneModel, hemisphere_model
@@ -30,6 +32,10 @@ class Setup:
     constraints: ConstraintSettings
     relaxation: RelaxationSettings
     structure_model: str
+    checkpoint: Optional[Path] = None
+    """Where a time-dependent procedure writes its checkpoints (None: it does not)."""
+    resume: Optional[dict] = None
+    """A checkpoint's payload to continue from (:mod:`fsi.checkpoint`), or None."""
 
     @property
     def procedure(self) -> Procedure:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import logging
 import signal
 import sys
@@ -67,14 +68,22 @@ def cmd_run(args) -> int:
     from tqdm.contrib.logging import logging_redirect_tqdm
 
     from .build import build
+    from .checkpoint import CHECKPOINT_FILE, read as read_checkpoint
     from .output import write_result
     from .plots import make_plots
     from .run_folder import RunFolder
     from .scene import load_scene
 
-    folder = RunFolder(args.out, args.overwrite)  # before anything is computed
+    folder = RunFolder(args.out, args.overwrite, args.resume)  # before anything is computed
     scene = load_scene(args.scene)
     setup = build(scene)  # validates the time step before anything is written
+    if args.resume:
+        setup = dataclasses.replace(setup, resume=read_checkpoint(folder.checkpoint()))
+        if setup.resume.get("scene") != scene.text:
+            raise UsageError(f"--resume: the checkpoint in '{folder.stage()}' is of another "
+                             f"scene text than '{args.scene}'")
+    if scene["dynamics"]["checkpoint_interval"] > 0:
+        setup = dataclasses.replace(setup, checkpoint=folder.stage() / CHECKPOINT_FILE)
     procedure = setup.procedure
     bar = ProgressBar(scene.name)
     t0 = time.perf_counter()
@@ -343,6 +352,9 @@ def main(argv=None) -> int:
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("--overwrite", action="store_true",
                    help="replace an existing results folder whole")
+    p.add_argument("--resume", action="store_true",
+                   help="continue a stopped run from its last checkpoint "
+                        "(dynamics.checkpoint_interval)")
     p.set_defaults(func=cmd_run)
     p = sub.add_parser("compare", help="Eqn 6.1 error per fill between two results, "
                                        "or a result and a Wavefront .obj surface")

@@ -27,11 +27,27 @@ class OutputError(Exception):
 class RunFolder:
     """``out``: the results folder asked for; ``overwrite``: replace an existing one."""
 
-    def __init__(self, out, overwrite: bool = False):
+    def __init__(self, out, overwrite: bool = False, resume: bool = False):
         self.out = Path(out)
         self.overwrite = overwrite
         self.staging: Path | None = None
-        self.check()
+        if resume:
+            self.staging = self.checkpoint().parent
+        else:
+            self.check()
+
+    def checkpoint(self) -> Path:
+        """The newest checkpoint in a staging folder of ``out`` (:class:`OutputError` when
+        there is none)."""
+        from .checkpoint import CHECKPOINT_FILE
+
+        parent = self.out.resolve().parent
+        found = sorted(parent.glob(f"{STAGING_PREFIX}{self.out.name}-*/{CHECKPOINT_FILE}"),
+                       key=lambda p: p.stat().st_mtime)
+        if not found:
+            raise OutputError(f"--resume: no checkpoint of '{self.out}' in '{parent}' (a run "
+                              f"writes them with dynamics.checkpoint_interval > 0)")
+        return found[-1]
 
     def check(self) -> None:
         """Raise :class:`OutputError` when ``out`` cannot take a run (module doc)."""
@@ -58,6 +74,9 @@ class RunFolder:
 
     def commit(self) -> Path:
         """Put the staged run in place of ``out`` (an earlier one removed); returns ``out``."""
+        from .checkpoint import CHECKPOINT_FILE
+
+        (self.stage() / CHECKPOINT_FILE).unlink(missing_ok=True)
         old = None
         if self.out.exists():
             old = Path(tempfile.mkdtemp(prefix=".replaced-", dir=self.out.resolve().parent))

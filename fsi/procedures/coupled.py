@@ -62,6 +62,9 @@ DYNAMICS = Table({
                       "smallest window with window_tolerance (s), also for windows redone "
                       "after a coupling failure; 0: none (README, 'Slow fills')"),
     "end_time": Key(float, 0.2, positive, "> 0 s", "simulated time (s)"),
+    "checkpoint_interval": Key(int, 0, lambda v: v >= 0, ">= 0",
+                               "windows between checkpoints (fsi run --resume continues from "
+                               "the last); 0: none (coupled-fill)"),
     "frame_interval": Key(int, 5, lambda v: v >= 1, ">= 1",
                           "windows between recorded frames"),
     "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from coupling import CouplingError, run as couple
+from coupling import CouplingError, advance, start as start_loop
 from fluid.model import Port
 from fluid.solver import FluidSolver
 from fluid.tank import sphere_model, tank_grid
@@ -38,6 +38,7 @@ from structure.volume import FillScale, liquid_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
+from ..checkpoint import write as write_checkpoint
 from ..lifecycle import Progress, Run, RunResult, membrane_frame
 from ..models import hydrostatic_load
 from ..motion import body_acceleration
@@ -170,7 +171,8 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
     dyn = setup.scene["dynamics"]
     membrane, fluid = parts.membrane, parts.fluid
     step = FRAME_FILL_STEP * 4.0 / 3.0 * np.pi * setup.model.radius**3  # m^3
-    band = [np.floor(parts.start_volume / step)]
+    done = run.groups.get("windows")  # a resumed run: the band its last window was in
+    band = [np.floor((done[-1]["liquid_volume"] if done else parts.start_volume) / step)]
 
     def record(w, data):
         t = (w.index + 1) * w.size if controller is None else w.time + w.size
@@ -202,33 +204,29 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
 
 
 def coupled_fill(setup, progress: Progress) -> RunResult:
-    """Fill (or drain) through the port from a static start, membrane and liquid coupled."""
+    """Fill (or drain) through the port from a static start, membrane and liquid coupled;
+    from ``setup.resume`` when given, writing checkpoints to ``setup.checkpoint``
+    (:mod:`fsi.checkpoint`)."""
     dyn = setup.scene["dynamics"]
     n_windows = max(1, int(round(dyn["end_time"] / dyn["window"])))
-    run = Run(progress, n_windows, dyn["frame_interval"])
-    model = XpbdModel.from_membrane(setup.model)
-    settings = membrane_settings(setup)
-    start, info = static_start(setup, model, settings)
-    run.progress(0, f"static start: tank fraction {dyn['start_fill']:.2f}, level "
-                    f"{info.pressure_level:.1f} Pa")
-    parts = assemble(setup, model, settings, start, info)
-    run.record("frames", frame(setup, parts, start, parts.fluid_side.initial_data()[PRESSURE],
-                               info.pressure_level, 0.0, run.elapsed(), info.converged))
-    controller = None
     if dyn["window_tolerance"] > 0:
-        controller = WindowController(dyn["window_tolerance"], dyn["max_window"],
-                                      dyn["end_time"], POINTS, start.node_position,
-                                      on_retry=lambda w: parts.membrane.with_inertia(w.time),
-                                      min_window=dyn["min_window"])
         n_windows = int(MAX_WINDOWS)
+    run = Run(progress, max(1, int(round(dyn["end_time"] / dyn["window"]))),
+              dyn["frame_interval"])
+    state = setup.resume or fresh_start(setup, run, n_windows)
+    run.groups = state["groups"]
+    parts, loop, controller = state["parts"], state["loop"], state["controller"]
+    recorder = window_recorder(setup, parts, run, controller)
     try:
-        couple(parts.membrane, parts.fluid_side, coupling_settings(setup.scene["coupling"]),
-               dyn["window"], n_windows, on_window=window_recorder(setup, parts, run,
-                                                                   controller),
-               next_window=controller)
+        while advance(loop, parts.membrane, parts.fluid_side, recorder, controller):
+            if setup.checkpoint is not None and dyn["checkpoint_interval"] > 0 and \
+                    loop.k % dyn["checkpoint_interval"] == 0 and not loop.done:
+                write_checkpoint(setup.checkpoint, dict(
+                    state, parts=parts, loop=loop, controller=controller, groups=run.groups,
+                    scene=setup.scene.text))
     except (CouplingError, XpbdDivergence) as err:
         run.stop(str(err))
-    attrs = fill_attrs(setup, parts, run, settings.dt, n_windows if controller is None
+    attrs = fill_attrs(setup, parts, run, state["substep"], n_windows if controller is None
                        else len(run.groups.get("windows", [])))
     if controller is not None:
         attrs["windows_over_tolerance"] = controller.over_tolerance
@@ -237,6 +235,31 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     attrs["windows_explicit"] = sum(r["explicit"] for r in run.groups.get("windows", []))
     attrs["windows_unconverged"] = sum(not r["converged"] for r in run.groups.get("windows", []))
     return run.result(**attrs)
+
+
+def fresh_start(setup, run: Run, n_windows: int) -> dict:
+    """What a coupled fill continues from at its start: the static start, both participants,
+    the coupling loop before its first window, the window controller and the first frame."""
+    dyn = setup.scene["dynamics"]
+    model = XpbdModel.from_membrane(setup.model)
+    settings = membrane_settings(setup)
+    start_state, info = static_start(setup, model, settings)
+    run.progress(0, f"static start: tank fraction {dyn['start_fill']:.2f}, level "
+                    f"{info.pressure_level:.1f} Pa")
+    parts = assemble(setup, model, settings, start_state, info)
+    run.record("frames", frame(setup, parts, start_state,
+                               parts.fluid_side.initial_data()[PRESSURE], info.pressure_level,
+                               0.0, run.elapsed(), info.converged))
+    controller = None
+    if dyn["window_tolerance"] > 0:
+        controller = WindowController(dyn["window_tolerance"], dyn["max_window"],
+                                      dyn["end_time"], POINTS, start_state.node_position,
+                                      on_retry=lambda w: parts.membrane.with_inertia(w.time),
+                                      min_window=dyn["min_window"])
+    loop = start_loop(parts.membrane, parts.fluid_side,
+                      coupling_settings(setup.scene["coupling"]), dyn["window"], n_windows)
+    return dict(parts=parts, loop=loop, controller=controller, groups=run.groups,
+                substep=settings.dt)
 
 
 def fill_attrs(setup, parts: Coupled, run: Run, substep: float, n_windows: int) -> dict:

@@ -1,0 +1,38 @@
+"""Checkpoints of a time-dependent run: everything needed to continue it, pickled
+(cloudpickle: the participants hold closures) and written atomically.
+
+A coupled fill with ``dynamics.checkpoint_interval`` = n > 0 writes, every n windows,
+``checkpoint.pkl`` into the run's staging folder (:mod:`fsi.run_folder`): both participants
+(membrane state and history, the liquid's fields and solver), the coupling loop (the
+acceleration's memory, past windows' fields, time, window size), the window controller and
+the records so far. ``fsi run SCENE --out DIR --resume`` finds the newest staging folder of
+DIR with a checkpoint and continues from it; the finished run's arrays equal an uninterrupted
+run's bit for bit (the wall-clock seconds excepted). The file is removed when the run is
+complete.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+CHECKPOINT_FILE = "checkpoint.pkl"
+
+
+def write(path: Path, payload: dict) -> None:
+    """Pickle ``payload`` to ``path`` atomically (a temporary file renamed over it)."""
+    import cloudpickle
+
+    tmp = path.with_name(path.name + ".tmp")
+    with open(tmp, "wb") as f:
+        cloudpickle.dump(payload, f)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def read(path: Path) -> dict:
+    """The payload a checkpoint at ``path`` holds."""
+    import pickle
+
+    with open(path, "rb") as f:
+        return pickle.load(f)

@@ -1,0 +1,62 @@
+"""Checkpoints and resume (fsi.checkpoint): a coupled fill killed with SIGKILL at a random
+moment after its first checkpoint, then resumed with --resume, ends with the arrays of an
+uninterrupted run, bit for bit (the wall-clock seconds excepted)."""
+import random
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from fsi.output import read_result
+
+SCENE = """[scene]
+name = "ck"
+procedure = "coupled-fill"
+[dynamics]
+end_time = 0.06
+frame_interval = 5
+checkpoint_interval = 4
+"""
+TIMING = {"seconds_structure", "seconds_fluid", "wall_seconds", "run_seconds"}
+FSI = [sys.executable, "-m", "fsi.cli"]
+
+
+def test_kill_9_then_resume_equals_an_uninterrupted_run(tmp_path):
+    scene = tmp_path / "ck.toml"
+    scene.write_text(SCENE)
+    ref, out = tmp_path / "ref", tmp_path / "run"
+    assert subprocess.run(FSI + ["run", str(scene), "--out", str(ref), "--no-plots"],
+                          capture_output=True).returncode == 0
+    proc = subprocess.Popen(FSI + ["run", str(scene), "--out", str(out), "--no-plots"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while not list(tmp_path.glob(".partial-run-*/checkpoint.pkl")):
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.05)
+    time.sleep(random.uniform(0.0, 1.0))  # a random window after the first checkpoint
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert not out.exists()
+    resumed = subprocess.run(FSI + ["run", str(scene), "--out", str(out), "--no-plots",
+                                    "--resume"], capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    a, b = read_result(ref), read_result(out)
+    for group in ("frames", "windows"):
+        assert sorted(a[group]) == sorted(b[group])
+        for key in set(a[group]) - TIMING:
+            assert np.array_equal(a[group][key], b[group][key],
+                                  equal_nan=a[group][key].dtype.kind == "f"), (group, key)
+    for key in set(a["attrs"]) - TIMING:
+        assert a["attrs"][key] == b["attrs"][key] or (a["attrs"][key] != a["attrs"][key]), key
+    assert not (out / "checkpoint.pkl").exists() and not list(tmp_path.glob(".partial-*"))
+
+
+def test_resume_without_a_checkpoint_is_one_line(tmp_path, capsys):
+    from fsi.cli import main
+
+    scene = tmp_path / "ck.toml"
+    scene.write_text(SCENE)
+    assert main(["run", str(scene), "--out", str(tmp_path / "run"), "--resume"]) == 2
+    assert "no checkpoint" in capsys.readouterr().err
