@@ -208,11 +208,9 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     from ``setup.resume`` when given, writing checkpoints to ``setup.checkpoint``
     (:mod:`fsi.checkpoint`)."""
     dyn = setup.scene["dynamics"]
-    n_windows = max(1, int(round(dyn["end_time"] / dyn["window"])))
-    if dyn["window_tolerance"] > 0:
-        n_windows = int(MAX_WINDOWS)
-    run = Run(progress, max(1, int(round(dyn["end_time"] / dyn["window"]))),
-              dyn["frame_interval"])
+    planned = max(1, int(round(dyn["end_time"] / dyn["window"])))
+    run = Run(progress, planned, dyn["frame_interval"])
+    n_windows = int(MAX_WINDOWS) if dyn["window_tolerance"] > 0 else planned
     state = setup.resume or fresh_start(setup, run, n_windows)
     run.groups = state["groups"]
     parts, loop, controller = state["parts"], state["loop"], state["controller"]
