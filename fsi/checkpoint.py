@@ -1,7 +1,9 @@
 """Checkpoints of a time-dependent run: everything needed to continue it, pickled
 (cloudpickle: the participants hold closures) and written atomically.
 
-A coupled fill with ``dynamics.checkpoint_interval`` = n > 0 writes, every n windows,
+A coupled fill with ``dynamics.checkpoint_interval`` = n > 0 writes, every n windows (and
+with ``dynamics.checkpoint_seconds`` = T > 0 whenever T seconds of wall time have passed
+since the last),
 ``checkpoint.pkl`` into the run's staging folder (:mod:`fsi.run_folder`): both participants
 (membrane state and history, the liquid's fields and solver), the coupling loop (the
 acceleration's memory, past windows' fields, time, window size), the window controller and
@@ -13,9 +15,28 @@ complete.
 from __future__ import annotations
 
 import os
+import time
 from pathlib import Path
 
 CHECKPOINT_FILE = "checkpoint.pkl"
+
+
+class CheckpointDue:
+    """``due(k)``: whether a checkpoint is written after window ``k``: every ``interval``
+    windows (0: not by count) or when ``seconds`` of wall time have passed since the last
+    one (0: not by time)."""
+
+    def __init__(self, interval: int, seconds: float):
+        self.interval, self.seconds = int(interval), float(seconds)
+        self.last = time.monotonic()
+
+    def __call__(self, k: int) -> bool:
+        now = time.monotonic()
+        if (self.interval > 0 and k % self.interval == 0) or \
+                (self.seconds > 0 and now - self.last >= self.seconds):
+            self.last = now
+            return True
+        return False
 
 
 def write(path: Path, payload: dict) -> None:

@@ -82,7 +82,8 @@ def cmd_run(args) -> int:
         if setup.resume.get("scene") != scene.text:
             raise UsageError(f"--resume: the checkpoint in '{folder.stage()}' is of another "
                              f"scene text than '{args.scene}'")
-    if scene["dynamics"]["checkpoint_interval"] > 0:
+    dyn = scene["dynamics"]
+    if dyn["checkpoint_interval"] > 0 or dyn["checkpoint_seconds"] > 0:
         setup = dataclasses.replace(setup, checkpoint=folder.stage() / CHECKPOINT_FILE)
     procedure = setup.procedure
     bar = ProgressBar(scene.name)

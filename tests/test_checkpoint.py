@@ -60,3 +60,20 @@ def test_resume_without_a_checkpoint_is_one_line(tmp_path, capsys):
     scene.write_text(SCENE)
     assert main(["run", str(scene), "--out", str(tmp_path / "run"), "--resume"]) == 2
     assert "no checkpoint" in capsys.readouterr().err
+
+
+def test_checkpoints_fall_due_by_count_or_by_wall_time(monkeypatch):
+    from fsi import checkpoint
+
+    clock = {"t": 100.0}
+    monkeypatch.setattr(checkpoint.time, "monotonic", lambda: clock["t"])
+    by_count = checkpoint.CheckpointDue(4, 0.0)
+    assert [k for k in range(1, 13) if by_count(k)] == [4, 8, 12]
+    by_time = checkpoint.CheckpointDue(0, 30.0)
+    due = []
+    for k in range(1, 13):
+        clock["t"] += 10.0  # a window takes 10 s
+        if by_time(k):
+            due.append(k)
+    assert due == [3, 6, 9, 12]
+    assert not any(checkpoint.CheckpointDue(0, 0.0)(k) for k in range(1, 20))

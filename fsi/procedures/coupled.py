@@ -64,7 +64,9 @@ DYNAMICS = Table({
     "end_time": Key(float, 0.2, positive, "> 0 s", "simulated time (s)"),
     "checkpoint_interval": Key(int, 0, lambda v: v >= 0, ">= 0",
                                "windows between checkpoints (fsi run --resume continues from "
-                               "the last); 0: none (coupled-fill)"),
+                               "the last); 0: none by count"),
+    "checkpoint_seconds": Key(float, 0.0, lambda v: v >= 0, ">= 0 s",
+                              "wall seconds between checkpoints; 0: none by time"),
     "frame_interval": Key(int, 5, lambda v: v >= 1, ">= 1",
                           "windows between recorded frames"),
     "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,

@@ -38,7 +38,7 @@ from structure.volume import FillScale, liquid_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
-from ..checkpoint import write as write_checkpoint
+from ..checkpoint import CheckpointDue, write as write_checkpoint
 from ..lifecycle import Progress, Run, RunResult, membrane_frame
 from ..models import hydrostatic_load
 from ..motion import body_acceleration
@@ -215,10 +215,10 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     run.groups = state["groups"]
     parts, loop, controller = state["parts"], state["loop"], state["controller"]
     recorder = window_recorder(setup, parts, run, controller)
+    due = CheckpointDue(dyn["checkpoint_interval"], dyn["checkpoint_seconds"])
     try:
         while advance(loop, parts.membrane, parts.fluid_side, recorder, controller):
-            if setup.checkpoint is not None and dyn["checkpoint_interval"] > 0 and \
-                    loop.k % dyn["checkpoint_interval"] == 0 and not loop.done:
+            if setup.checkpoint is not None and not loop.done and due(loop.k):
                 write_checkpoint(setup.checkpoint, dict(
                     state, parts=parts, loop=loop, controller=controller, groups=run.groups,
                     scene=setup.scene.text))
