@@ -10,7 +10,8 @@ acceleration's memory, past windows' fields, time, window size), the window cont
 the records so far. ``fsi run SCENE --out DIR --resume`` finds the newest staging folder of
 DIR with a checkpoint and continues from it; the finished run's arrays equal an uninterrupted
 run's bit for bit (the wall-clock seconds excepted). The file is removed when the run is
-complete.
+complete.  The thesis ramp does the same with ``thesis.checkpoint_interval`` (steps) and
+``thesis.checkpoint_seconds``: its state, the next step and the records.
 """
 from __future__ import annotations
 
@@ -19,6 +20,16 @@ import time
 from pathlib import Path
 
 CHECKPOINT_FILE = "checkpoint.pkl"
+
+
+CHECKPOINT_KEYS = ("checkpoint_interval", "checkpoint_seconds")
+"""Scene keys that ask a procedure for checkpoints, in whichever table it owns them."""
+
+
+def wanted(scene) -> bool:
+    """Whether the scene asks for checkpoints (a CHECKPOINT_KEYS key > 0 in any table)."""
+    return any(table.get(key, 0) > 0 for table in scene.values.values()
+               for key in CHECKPOINT_KEYS)
 
 
 class CheckpointDue:

@@ -68,7 +68,7 @@ def cmd_run(args) -> int:
     from tqdm.contrib.logging import logging_redirect_tqdm
 
     from .build import build
-    from .checkpoint import CHECKPOINT_FILE, read as read_checkpoint
+    from .checkpoint import CHECKPOINT_FILE, read as read_checkpoint, wanted as wants_checkpoints
     from .output import write_result
     from .plots import make_plots
     from .run_folder import RunFolder
@@ -82,8 +82,7 @@ def cmd_run(args) -> int:
         if setup.resume.get("scene") != scene.text:
             raise UsageError(f"--resume: the checkpoint in '{folder.stage()}' is of another "
                              f"scene text than '{args.scene}'")
-    dyn = scene["dynamics"]
-    if dyn["checkpoint_interval"] > 0 or dyn["checkpoint_seconds"] > 0:
+    if wants_checkpoints(scene):
         setup = dataclasses.replace(setup, checkpoint=folder.stage() / CHECKPOINT_FILE)
     procedure = setup.procedure
     bar = ProgressBar(scene.name)

@@ -77,3 +77,34 @@ def test_checkpoints_fall_due_by_count_or_by_wall_time(monkeypatch):
             due.append(k)
     assert due == [3, 6, 9, 12]
     assert not any(checkpoint.CheckpointDue(0, 0.0)(k) for k in range(1, 20))
+
+
+def test_the_thesis_ramp_resumes_bit_for_bit_too(tmp_path):
+    """The thesis stepper's ramp killed after a checkpoint and resumed: its picked frames and
+    history equal an uninterrupted ramp's."""
+    from tests.test_runs import RAMP
+
+    scene = tmp_path / "ramp.toml"
+    scene.write_text(RAMP.replace("end_time = 0.05", "end_time = 3.0")
+                     .replace("frame_interval = 50", "frame_interval = 500\n"
+                              "checkpoint_interval = 2000"))
+    ref, out = tmp_path / "ref", tmp_path / "run"
+    assert subprocess.run(FSI + ["run", str(scene), "--out", str(ref), "--no-plots"],
+                          capture_output=True).returncode == 0
+    proc = subprocess.Popen(FSI + ["run", str(scene), "--out", str(out), "--no-plots"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while not list(tmp_path.glob(".partial-run-*/checkpoint.pkl")):
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.05)
+    time.sleep(random.uniform(0.0, 0.5))
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    resumed = subprocess.run(FSI + ["run", str(scene), "--out", str(out), "--no-plots",
+                                    "--resume"], capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    a, b = read_result(ref), read_result(out)
+    for group in ("frames", "history"):
+        for key in set(a[group]) - TIMING:
+            assert np.array_equal(a[group][key], b[group][key],
+                                  equal_nan=a[group][key].dtype.kind == "f"), (group, key)

@@ -15,6 +15,7 @@ import numpy as np
 
 from structure.thesis import DAMPING_MODES, ThesisSettings, ThesisState, step
 
+from ..checkpoint import CheckpointDue, write as write_checkpoint
 from ..fill import full_inversion
 from ..limits import check_time_step, courant_time_step_limit
 from ..lifecycle import Progress, Run, RunResult, stack
@@ -46,6 +47,11 @@ THESIS = Table({
     "damping": Key(str, "courant-drag", *one_of(DAMPING_MODES), "damping mode (see README)"),
     "frame_interval": Key(int, 100, lambda v: v >= 1, ">= 1",
                           "steps between recorded frames (thesis 0.05 s / dt)"),
+    "checkpoint_interval": Key(int, 0, lambda v: v >= 0, ">= 0",
+                               "steps between checkpoints (fsi run --resume continues from "
+                               "the last); 0: none by count"),
+    "checkpoint_seconds": Key(float, 0.0, lambda v: v >= 0, ">= 0 s",
+                              "wall seconds between checkpoints; 0: none by time"),
 }, _check_thesis)
 """[thesis]: the ramp and the thesis stepper's settings (App. B names in brackets)."""
 
@@ -65,8 +71,11 @@ def thesis_ramp(setup, progress: Progress) -> RunResult:
     h0, h1 = th["height_start"] * model.radius, th["height_end"] * model.radius
     full = full_inversion(setup)
     run = Run(progress, n_steps, th["frame_interval"])
-    state = ThesisState(model.node_rest_position)
-    for k in range(1, n_steps + 1):
+    state, first = ThesisState(model.node_rest_position), 1
+    if setup.resume is not None:
+        state, first, run.groups = (setup.resume[k] for k in ("state", "next_step", "groups"))
+    due = CheckpointDue(th["checkpoint_interval"], th["checkpoint_seconds"])
+    for k in range(first, n_steps + 1):
         h = h0 + (h1 - h0) * k / n_steps  # App. B updates the height before each step
         level = liquid.reference_pressure(h)
         state, _ = step(model, state, hydrostatic_load(liquid, pressure_level=level), th["dt"],
@@ -78,6 +87,10 @@ def thesis_ramp(setup, progress: Progress) -> RunResult:
                 time=k * th["dt"],
                 node_speed_max=float(np.linalg.norm(state.node_velocity, axis=1).max())))
             run.progress(k, f"t = {k * th['dt']:.3f} s, h = {h:+.4f} m")
+        if setup.checkpoint is not None and k < n_steps and due(k):
+            write_checkpoint(setup.checkpoint, dict(state=state, next_step=k + 1,
+                                                    groups=run.groups,
+                                                    scene=setup.scene.text))
     history = stack(run.groups["history"])
     groups, attrs = full_inversion_parts(setup, full)
     groups["frames"] = pick_by_volume(history, setup.scene["sweep"]["fills"])
