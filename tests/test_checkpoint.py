@@ -23,9 +23,9 @@ TIMING = {"seconds_structure", "seconds_fluid", "wall_seconds", "run_seconds"}
 FSI = [sys.executable, "-m", "fsi.cli"]
 
 
-def test_kill_9_then_resume_equals_an_uninterrupted_run(tmp_path):
-    scene = tmp_path / "ck.toml"
-    scene.write_text(SCENE)
+def _reference_and_resumed(tmp_path, scene, max_delay: float):
+    """An uninterrupted run of ``scene`` and one killed with SIGKILL up to ``max_delay`` s
+    after its first checkpoint, then resumed: the two result folders."""
     ref, out = tmp_path / "ref", tmp_path / "run"
     assert subprocess.run(FSI + ["run", str(scene), "--out", str(ref), "--no-plots"],
                           capture_output=True).returncode == 0
@@ -35,13 +35,20 @@ def test_kill_9_then_resume_equals_an_uninterrupted_run(tmp_path):
     while not list(tmp_path.glob(".partial-run-*/checkpoint.pkl")):
         assert proc.poll() is None and time.monotonic() < deadline
         time.sleep(0.05)
-    time.sleep(random.uniform(0.0, 1.0))  # a random window after the first checkpoint
+    time.sleep(random.uniform(0.0, max_delay))  # a random moment after the first checkpoint
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     assert not out.exists()
     resumed = subprocess.run(FSI + ["run", str(scene), "--out", str(out), "--no-plots",
                                     "--resume"], capture_output=True, text=True)
     assert resumed.returncode == 0, resumed.stderr
+    return ref, out
+
+
+def test_kill_9_then_resume_equals_an_uninterrupted_run(tmp_path):
+    scene = tmp_path / "ck.toml"
+    scene.write_text(SCENE)
+    ref, out = _reference_and_resumed(tmp_path, scene, max_delay=1.0)
     a, b = read_result(ref), read_result(out)
     for group in ("frames", "windows"):
         assert sorted(a[group]) == sorted(b[group])
@@ -88,21 +95,7 @@ def test_the_thesis_ramp_resumes_bit_for_bit_too(tmp_path):
     scene.write_text(RAMP.replace("end_time = 0.05", "end_time = 3.0")
                      .replace("frame_interval = 50", "frame_interval = 500\n"
                               "checkpoint_interval = 2000"))
-    ref, out = tmp_path / "ref", tmp_path / "run"
-    assert subprocess.run(FSI + ["run", str(scene), "--out", str(ref), "--no-plots"],
-                          capture_output=True).returncode == 0
-    proc = subprocess.Popen(FSI + ["run", str(scene), "--out", str(out), "--no-plots"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 120
-    while not list(tmp_path.glob(".partial-run-*/checkpoint.pkl")):
-        assert proc.poll() is None and time.monotonic() < deadline
-        time.sleep(0.05)
-    time.sleep(random.uniform(0.0, 0.5))
-    proc.send_signal(signal.SIGKILL)
-    proc.wait()
-    resumed = subprocess.run(FSI + ["run", str(scene), "--out", str(out), "--no-plots",
-                                    "--resume"], capture_output=True, text=True)
-    assert resumed.returncode == 0, resumed.stderr
+    ref, out = _reference_and_resumed(tmp_path, scene, max_delay=0.5)
     a, b = read_result(ref), read_result(out)
     for group in ("frames", "history"):
         for key in set(a[group]) - TIMING:
