@@ -21,7 +21,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from structure.volume import FillScale, liquid_volume
+from structure.volume import FillScale, liquid_volume, tank_volume
 
 log = logging.getLogger(__name__)
 
@@ -48,7 +48,7 @@ def membrane_frame(setup, scale: FillScale, node_position: np.ndarray,
     ``scale``), liquid_volume (m^3), tank_fraction V / (4/3 pi R^3), pressure_level (Pa,
     uniform level at the tank centre) and equivalent_height (m, p_ref / (rho |b|))."""
     volume = liquid_volume(setup.model, node_position)
-    tank = 4.0 / 3.0 * np.pi * setup.model.radius**3
+    tank = tank_volume(setup.model.radius)
     return dict(node_position=node_position.copy(), fill_fraction=float(scale.fill(volume)),
                 liquid_volume=volume, tank_fraction=volume / tank,
                 pressure_level=float(pressure_level),

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from structure.model import MembraneModel
-from structure.volume import liquid_first_moment, liquid_volume
+from structure.volume import liquid_first_moment, liquid_volume, tank_volume
 from structure.xpbd import XpbdModel
 
 from .compare import eqn_6_1_error
@@ -61,7 +61,7 @@ def compare(dynamic_frames: dict, static_frames: dict, model: MembraneModel, fil
 
 
 def _row(model, fill, x_dyn, level_dyn, x_sta, level_sta, pairing_tolerance) -> dict:
-    tank = 4.0 / 3.0 * np.pi * model.radius**3
+    tank = tank_volume(model.radius)
     tank_dyn, tank_sta = liquid_volume(model, x_dyn) / tank, liquid_volume(model, x_sta) / tank
     return dict(
         fill=float(fill), tank_dynamic=float(tank_dyn), tank_static=float(tank_sta),
@@ -93,7 +93,7 @@ def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
         volume = liquid_volume(setup.model, x)
         state, info = static_equilibrium(setup, model, settings, volume,
                                          state if along_path else MembraneState(x))
-        tank = volume / (4.0 / 3.0 * np.pi * setup.model.radius**3)
+        tank = volume / tank_volume(setup.model.radius)
         rows.append(dict(_row(setup.model, tank, x, level, state.node_position,
                               info.pressure_level, PAIRING_TOLERANCE),
                          static_converged=bool(info.converged)))

@@ -20,6 +20,11 @@ from .kernels import closed_volume_gradient, closed_volume_term, first_moment
 from .model import MembraneModel
 
 
+def tank_volume(radius: float) -> float:
+    """4/3 pi R^3 (m^3): the spherical tank's volume, of which a tank fraction is a fraction."""
+    return 4.0 / 3.0 * np.pi * radius**3
+
+
 def lower_hemisphere_volume(radius: float) -> float:
     """(2/3) pi R^3 (m^3)."""
     return 2.0 / 3.0 * np.pi * radius**3
@@ -72,7 +77,7 @@ class FillScale:
     @classmethod
     def tank(cls, radius: float) -> "FillScale":
         """The tank fraction V / ((4/3) pi R^3): empty = 0, full = the tank's volume."""
-        return cls(0.0, 4.0 / 3.0 * np.pi * radius**3)
+        return cls(0.0, tank_volume(radius))
 
     def volume(self, fill_fraction):
         """Liquid volume (m^3) at fill fraction ``fill_fraction`` (-)."""

@@ -34,7 +34,7 @@ from fluid.solver import FluidSolver
 from fluid.tank import sphere_model, tank_grid
 from structure.load import Equilibrium
 from structure.model import MembraneState
-from structure.volume import FillScale, liquid_volume
+from structure.volume import FillScale, liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
@@ -170,7 +170,7 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
     time."""
     dyn = setup.scene["dynamics"]
     membrane, fluid = parts.membrane, parts.fluid
-    step = FRAME_FILL_STEP * 4.0 / 3.0 * np.pi * setup.model.radius**3  # m^3
+    step = FRAME_FILL_STEP * tank_volume(setup.model.radius)  # m^3
     done = run.groups.get("windows")  # a resumed run: the band its last window was in
     band = [np.floor((done[-1]["liquid_volume"] if done else parts.start_volume) / step)]
 

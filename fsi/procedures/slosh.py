@@ -35,6 +35,7 @@ from fluid.measures import angular_momentum, dissipation_rate, kinetic_energy, m
 from fluid.model import FluidModel
 from fluid.solver import FluidSolver
 from fluid.tank import tank_grid, tank_spacing
+from structure.volume import tank_volume
 
 from ..limp import HeightSurface, advance_heights
 from ..lateral_compliance import (Compliance, first_mode_bound, free_surface_compliance,
@@ -86,14 +87,9 @@ class Start:
     centre: np.ndarray
 
 
-def _tank_volume(radius: float) -> float:
-    """4/3 pi R^3 (m^3), the volume a tank fraction is a fraction of."""
-    return 4.0 / 3.0 * np.pi * radius**3
-
-
 def _level(radius: float, fill: float) -> float:
     """The level z0 (m) at which the sphere of ``radius`` holds the tank fraction ``fill``."""
-    return SphericalTank(radius).level_holding(fill * _tank_volume(radius))
+    return SphericalTank(radius).level_holding(fill * tank_volume(radius))
 
 
 def _start(setup) -> Start:
@@ -114,7 +110,7 @@ def check_depth(setup) -> None:
     depth = min(radius + level, radius - level)
     if depth < MIN_DEPTH_CELLS * h:
         low = SphericalTank(radius).volume_below(-radius + MIN_DEPTH_CELLS * h) / \
-            _tank_volume(radius)
+            tank_volume(radius)
         raise SceneError(f"scene key 'slosh.fill' = {fill!r}: the liquid or the gas is "
                          f"{depth / h:.2f} fluid cells deep (cell {h:.4g} m at fluid.cells = "
                          f"{scene['fluid']['cells']}); allowed {low:.3f} < fill < "
@@ -248,12 +244,12 @@ def slosh(setup, progress: Progress) -> RunResult:
         [[0.0], np.cumsum(0.5 * np.diff(time) * (windows["dissipation_rate"][1:]
                                                  + windows["dissipation_rate"][:-1]))])
     radius = setup.model.radius
-    tank_volume = _tank_volume(radius)
-    windows["tank_fraction"] = windows["fluid_liquid_volume"] / tank_volume
+    tank = tank_volume(radius)
+    windows["tank_fraction"] = windows["fluid_liquid_volume"] / tank
     gravity = -float(setup.liquid.body_acceleration[2])
     attrs = dict(
         surface=table["surface"], target_tank_fraction=table["fill"],
-        tank_fraction=volume / tank_volume, level=start.level,
+        tank_fraction=volume / tank, level=start.level,
         liquid_mass=setup.liquid.density * volume, contents_mass=mass,
         centre_height=float(contents.centre[2]), window=window, windows_planned=n_windows,
         windows_done=len(time) - 1, fluid_cells=scene["fluid"]["cells"],

@@ -39,7 +39,7 @@ from fluid.model import FluidModel
 from fluid.solver import FluidSolver
 from fluid.tank import tank_grid
 from structure.hyperelastic import svk_energy_and_gradient
-from structure.volume import liquid_volume
+from structure.volume import liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
@@ -48,7 +48,7 @@ from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
 from ..models import hydrostatic_load, statics_substep
 from .coupled import WINDOW_TIME_SCHEMES, coupling_settings, window_substep
 from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
-from .slosh import Contents, _tank_volume, register_surface
+from .slosh import Contents, register_surface
 
 
 def elastic_energies(model: XpbdModel, node_position: np.ndarray) -> tuple[float, float]:
@@ -112,7 +112,7 @@ def static_start(setup, window: float) -> StaticStart:
     settings = XpbdSettings(dt=window_substep(setup, window, table["substep_fraction"]),
                             iterations=table["constraint_sweeps"], warm_start=False,
                             tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
-    volume = table["fill"] * _tank_volume(setup.model.radius)
+    volume = table["fill"] * tank_volume(setup.model.radius)
     # the fold state from a path that does not depend on the window: relaxed at the statics'
     # substep, then settled at the windows' (same sweeps) so that it is at rest under them
     state, _ = static_equilibrium(setup, xpbd, replace(settings, dt=statics_substep(setup)), volume)
