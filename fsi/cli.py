@@ -130,13 +130,15 @@ window did not converge (0: all converged; 1: stopped early; 2: bad input)."""
 
 
 def not_converged(result) -> str:
-    """'' when every ``converged`` entry of every group and every ``*_converged`` attribute of
-    ``result`` holds; else what did not, e.g. '1 of 999 windows, start'."""
+    """'' when every ``converged`` entry of every group and every true-or-false
+    ``*_converged`` attribute of ``result`` holds (a count such as ``windows_not_converged``
+    is not one); else what did not, e.g. '1 of 999 windows, start'."""
     parts = [f"{int(np.sum(~np.asarray(g['converged'], dtype=bool)))} of {len(g['converged'])} "
              f"{name}" for name, g in result.groups.items()
              if "converged" in g and not np.all(g["converged"])]
     parts += [key[:-len("_converged")] for key, value in result.attrs.items()
-              if key.endswith("_converged") and not bool(value)]
+              if key.endswith("_converged") and isinstance(value, (bool, np.bool_))
+              and not value]
     return ", ".join(parts)
 
 

@@ -10,8 +10,10 @@ from fsi.plots import fill_label
 def test_not_converged_names_each_group_and_attribute():
     result = RunResult(groups={"frames": {"converged": np.array([True, False, True])},
                                "windows": {"converged": np.array([True] * 5)}},
-                       attrs={"start_converged": False, "all_converged": True})
-    assert not_converged(result) == "1 of 3 frames, start"
+                       attrs={"start_converged": False, "all_converged": True,
+                              "windows_not_converged": 4, "flag_converged": np.bool_(False)})
+    # a count named *_not_converged is not a flag (the slosh run's windows_not_converged)
+    assert not_converged(result) == "1 of 3 frames, start, flag"
     ok = RunResult(groups={"frames": {"converged": np.array([True])}}, attrs={})
     assert not_converged(ok) == ""
 
