@@ -11,7 +11,11 @@ the records so far. ``fsi run SCENE --out DIR --resume`` finds the newest stagin
 DIR with a checkpoint and continues from it; the finished run's arrays equal an uninterrupted
 run's bit for bit (the wall-clock seconds excepted). The file is removed when the run is
 complete.  The thesis ramp does the same with ``thesis.checkpoint_interval`` (steps) and
-``thesis.checkpoint_seconds``: its state, the next step and the records.
+``thesis.checkpoint_seconds``: its state, the next step and the records; a slosh run with
+``slosh.checkpoint_interval`` (windows) and ``slosh.checkpoint_seconds``: its surface model's
+windows (:class:`fsi.procedures.slosh.SurfaceWindows`: the liquid, the height surface or the
+membrane and the coupling loop) and the records. Every checkpoint holds the wall seconds run
+so far, which a resumed run's clock counts on from.
 """
 from __future__ import annotations
 

@@ -96,6 +96,12 @@ class Run:
         """Wall seconds since the run started."""
         return time.perf_counter() - self.started
 
+    def resumed(self, checkpoint: dict) -> None:
+        """The run continues from ``checkpoint`` (:mod:`fsi.checkpoint`): its records, and
+        its clock counts the ``elapsed`` seconds of the run before it."""
+        self.groups = checkpoint["groups"]
+        self.started -= checkpoint.get("elapsed", 0.0)
+
     def frame_due(self, done: int) -> bool:
         """Whether a frame is recorded after ``done`` units of work."""
         return done % self.frame_interval == 0 or done == self.total

@@ -212,7 +212,7 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     run = Run(progress, planned, dyn["frame_interval"])
     n_windows = int(MAX_WINDOWS) if dyn["window_tolerance"] > 0 else planned
     state = setup.resume or fresh_start(setup, run, n_windows)
-    run.groups = state["groups"]
+    run.resumed(state)
     parts, loop, controller = state["parts"], state["loop"], state["controller"]
     recorder = window_recorder(setup, parts, run, controller)
     due = CheckpointDue(dyn["checkpoint_interval"], dyn["checkpoint_seconds"])
@@ -221,7 +221,7 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
             if setup.checkpoint is not None and not loop.done and due(loop.k):
                 write_checkpoint(setup.checkpoint, dict(
                     state, parts=parts, loop=loop, controller=controller, groups=run.groups,
-                    scene=setup.scene.text))
+                    elapsed=run.elapsed(), scene=setup.scene.text))
     except (CouplingError, XpbdDivergence) as err:
         run.stop(str(err))
     attrs = fill_attrs(setup, parts, run, state["substep"], n_windows if controller is None

@@ -24,67 +24,29 @@
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
 from fluid.container import SphericalTank
-from fluid.free_surface import column_rates, surface_of
-from fluid.measures import angular_momentum, dissipation_rate, kinetic_energy, momentum
-from fluid.model import FluidModel
-from fluid.solver import FluidSolver
-from fluid.tank import tank_grid, tank_spacing
+from fluid.tank import tank_spacing
 from structure.volume import tank_volume
 
-from ..limp import HeightSurface, advance_heights
-from ..lateral_compliance import (Compliance, first_mode_bound, free_surface_compliance,
-                                  modal_compliance)
-from ..lifecycle import Progress, Run, RunResult
+from ..checkpoint import CheckpointDue, write as write_checkpoint
+from ..lateral_compliance import first_mode_bound, modal_compliance
+from ..lifecycle import Progress, Run, RunResult, stack
 from ..models import XPBD_COURANT_FRACTION, XPBD_DYNAMIC_SWEEPS
 from ..motion import body_acceleration, tank_acceleration
 from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
 from ..slosh_response import contents_response, first_mode
 from .coupled import COUPLING, FLUID, MOTION
+from .slosh_limp import LimpWindows  # noqa: F401  (registers "limp", the default, first)
+from .slosh_diaphragm import DiaphragmWindows  # noqa: F401  (registers "diaphragm")
+from .slosh_surfaces import SURFACES, Contents, Start
 
 log = logging.getLogger(__name__)
 
-#: slosh.surface -> the function that runs the windows of that surface model:
-#: (setup, start, body, run, window, n_windows) -> (samples, surface data, Contents)
-SURFACES: dict[str, Callable] = {}
-
-
-@dataclass
-class Contents:
-    """What the tank holds at the start: liquid volume (m^3), mass of the contents (kg,
-    liquid and membrane), their centre of mass (3,) m and their static lateral compliance
-    (:class:`fsi.lateral_compliance.Compliance`, s^2)."""
-
-    volume: float
-    mass: float
-    centre: np.ndarray
-    compliance: Compliance
-
-
-def register_surface(name: str):
-    """Decorator: register a surface model's window loop under ``name``."""
-    def deco(func):
-        SURFACES[name] = func
-        return func
-    return deco
-
-
 MIN_DEPTH_CELLS = 2.0
 """Liquid and gas each at least this many fluid cells deep at the tank's axis."""
-
-
-@dataclass
-class Start:
-    """The liquid at rest: tank, level z0 (m), centre of mass (3,) m."""
-
-    tank: SphericalTank
-    level: float
-    centre: np.ndarray
 
 
 def _level(radius: float, fill: float) -> float:
@@ -121,76 +83,6 @@ def check_depth(setup) -> None:
                          f"slosh run needs gravity along -z (0, 0, -g), g > 0")
 
 
-@register_surface("limp")
-def _limp(setup, start: Start, body, run: Run, window: float, n_windows: int):
-    """The limp diaphragm's windows: the height surface moved by the last step's column
-    fluxes (volume held by a uniform shift), then one free-surface liquid step under it.
-    Returns the per-window samples of what the record needs."""
-    scene = setup.scene
-    radius = setup.model.radius
-    grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
-    model = FluidModel(grid=grid, container=start.tank, density=setup.liquid.density,
-                       viscosity=scene["fluid"]["viscosity"], body_acceleration=body,
-                       interface_condition="free")
-    surface = HeightSurface(grid, bottom=-2.0 * radius)
-    heights = surface.flat(start.level)
-    fluid = FluidSolver(model, surface.interface(heights))
-    volume = fluid.liquid_volume
-    plan_area = np.pi * (radius**2 - start.level**2)
-    node_area = _node_areas(surface, grid.spacing, radius, start.level)
-    gravity = -float(setup.liquid.body_acceleration[2])
-    samples = []
-
-    def sample(t, seconds):
-        state = fluid.state
-        free = surface_of(model, state.geometry).faces if model.viscosity > 0 else None
-        rise = heights.ravel() - start.level
-        samples.append(dict(
-            time=t, momentum=momentum(model, state),
-            angular_momentum=angular_momentum(model, state),
-            liquid_kinetic_energy=kinetic_energy(model, state),
-            potential_energy=0.5 * setup.liquid.density * gravity * float(
-                np.sum(node_area * rise**2)),
-            dissipation_rate=dissipation_rate(model, state, free),
-            fluid_liquid_volume=fluid.liquid_volume, wall_seconds=seconds))
-
-    sample(0.0, run.elapsed())
-    run.record("frames", dict(time=0.0, surface_height=heights.copy()))
-    for k in range(n_windows):
-        t = (k + 1) * window
-        rate = surface.node_rates(*column_rates(model, fluid.state))
-        shift = (volume - fluid.liquid_volume) / plan_area
-        heights = advance_heights(heights, rate, window, shift)
-        velocity = fluid.velocity_at(surface.points(heights))
-        velocity[:, 2] = rate.ravel()
-        fluid.advance(window, surface.interface(heights, velocity))
-        if not np.all(np.isfinite(heights)):
-            run.stop(f"the surface is not finite at t = {t:.4f} s")
-            break
-        sample(t, run.elapsed())
-        if run.frame_due(k + 1):
-            run.record("frames", dict(time=t, surface_height=heights.copy()))
-        run.progress(k + 1, f"t = {t:.3f} s, surface x-moment "
-                            f"{float(np.sum(node_area * heights.ravel() * surface.plan[:, 0])):.3e}"
-                            " m^4")
-    compliance = Compliance(free_surface_compliance(float(start.centre[2]), gravity), 0.0,
-                            True)
-    contents = Contents(volume, setup.liquid.density * volume, start.centre, compliance)
-    return samples, dict(node_plan=surface.plan, node_area=node_area), contents
-
-
-def _node_areas(surface: HeightSurface, spacing: float, radius: float, level: float,
-                subdivisions: int = 8) -> np.ndarray:
-    """(n_nodes,) m^2: the part of each node's column (a cell's cross-section around it)
-    inside the tank's circle at the level (midpoint rule on a subdivided square)."""
-    offsets = (np.arange(subdivisions) + 0.5) / subdivisions - 0.5
-    dx, dy = np.meshgrid(offsets * spacing, offsets * spacing, indexing="ij")
-    x = surface.plan[:, 0, None] + dx.ravel()
-    y = surface.plan[:, 1, None] + dy.ravel()
-    inside = x**2 + y**2 < radius**2 - level**2
-    return inside.mean(axis=1) * spacing**2
-
-
 def _check_slosh(table: dict) -> None:
     if table["analysis_start"] >= table["end_time"]:
         raise SceneError(f"scene key 'slosh.analysis_start' = {table['analysis_start']!r} s: "
@@ -216,6 +108,11 @@ SLOSH = Table({
                           "windows between recorded surface frames"),
     "analysis_start": Key(float, 0.15, lambda v: v >= 0, ">= 0 s",
                           "the free decay's fit starts here (s; after the impulse)"),
+    "checkpoint_interval": Key(int, 0, lambda v: v >= 0, ">= 0",
+                               "windows between checkpoints (fsi run --resume continues from "
+                               "the last); 0: none by count"),
+    "checkpoint_seconds": Key(float, 0.0, lambda v: v >= 0, ">= 0 s",
+                              "wall seconds between checkpoints; 0: none by time"),
 }, _check_slosh)
 """[slosh]: start, surface model, windows and analysis of a slosh run."""
 
@@ -231,10 +128,9 @@ def slosh(setup, progress: Progress) -> RunResult:
     start = _start(setup)
     body = body_acceleration(setup.liquid.body_acceleration, scene["motion"])
     acceleration = tank_acceleration(scene["motion"])
-    samples, surface_data, contents = SURFACES[table["surface"]](setup, start, body, run,
-                                                                 window, n_windows)
+    surface_data, contents = run_windows(setup, run, start, body, window, n_windows)
     volume, mass = contents.volume, contents.mass
-    windows = {k: np.asarray([s[k] for s in samples]) for k in samples[0]}
+    windows = stack(run.groups.pop("windows"))
     time = windows["time"]
     windows["tank_acceleration"] = np.array([acceleration(t) for t in time])
     body_t = np.array([body(t) for t in time])
@@ -272,6 +168,25 @@ def slosh(setup, progress: Progress) -> RunResult:
                 time[-1] * attrs["omega"] / (2 * np.pi))
     attrs.update(compliance_attrs(contents, attrs))
     return run.result({"windows": windows, "surface": surface_data}, **attrs)
+
+
+def run_windows(setup, run: Run, start: Start, body, window: float, n_windows: int):
+    """The surface model's windows (:data:`SURFACES`), from ``setup.resume`` when given,
+    writing checkpoints to ``setup.checkpoint`` (:mod:`fsi.checkpoint`). Returns the
+    surface's data and the :class:`Contents`; the windows' records are in ``run``."""
+    table = setup.scene["slosh"]
+    if setup.resume is not None:
+        windows = setup.resume["windows"]
+        run.resumed(setup.resume)
+    else:
+        windows = SURFACES[table["surface"]](setup, start, body, run, window, n_windows)
+    due = CheckpointDue(table["checkpoint_interval"], table["checkpoint_seconds"])
+    while windows.advance(run):
+        if setup.checkpoint is not None and not windows.done and due(windows.k):
+            write_checkpoint(setup.checkpoint, dict(windows=windows, groups=run.groups,
+                                                    elapsed=run.elapsed(),
+                                                    scene=setup.scene.text))
+    return windows.finish()
 
 
 def compliance_attrs(contents: Contents, attrs: dict) -> dict:

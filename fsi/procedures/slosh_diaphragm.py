@@ -32,7 +32,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from coupling import CouplingError, run as couple
+from coupling import CouplingError, advance as advance_loop, start as start_loop
 from fluid.container import SphericalTank
 from fluid.measures import angular_momentum, dissipation_rate, kinetic_energy, momentum
 from fluid.model import FluidModel
@@ -45,10 +45,11 @@ from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equili
 from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
 from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
                                   static_compliance)
+from ..lifecycle import Run
 from ..models import hydrostatic_load, statics_substep
 from .coupled import WINDOW_TIME_SCHEMES, coupling_settings, window_substep
 from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
-from .slosh import Contents, register_surface
+from .slosh_surfaces import Contents, SurfaceWindows, register_surface
 
 
 def elastic_energies(model: XpbdModel, node_position: np.ndarray) -> tuple[float, float]:
@@ -171,18 +172,19 @@ def start_compliance(setup, start: StaticStart, tilt: float = DEFAULT_TILT,
     return static_compliance(centre_at, tilt)
 
 
-def _sampler(setup, parts: _Parts, samples: list):
-    """sample(t, seconds): appends the window's record of the contents (module doc)."""
+def _sampler(setup, parts: _Parts):
+    """sample(run, t, **extra): records the window's ``windows`` record of the contents
+    (module doc) in ``run``, with ``extra`` entries."""
     model, fluid, membrane = parts.model, parts.fluid, parts.membrane
     node_mass = setup.model.node_mass
     x0 = membrane.state.node_position.copy()
     c0, liquid_mass = parts.liquid_centre, parts.liquid_mass
     b0 = np.asarray(setup.liquid.body_acceleration, dtype=float)
 
-    def sample(t, seconds):
+    def sample(run, t, **extra):
         st, x, v = fluid.state, membrane.state.node_position, membrane.state.node_velocity
         c = liquid_centroid(model, fluid)
-        samples.append(dict(
+        run.record("windows", dict(
             time=t,
             momentum=momentum(model, st) + node_mass @ v,
             angular_momentum=angular_momentum(model, st) + np.sum(
@@ -195,39 +197,51 @@ def _sampler(setup, parts: _Parts, samples: list):
             dissipation_rate=dissipation_rate(model, st),
             fluid_liquid_volume=fluid.liquid_volume,
             membrane_liquid_volume=liquid_volume(setup.model, x),
-            pressure_level=membrane.level, wall_seconds=seconds))
+            pressure_level=membrane.level, wall_seconds=run.elapsed(), **extra))
 
     return sample
 
 
 @register_surface("diaphragm")
-def _diaphragm(setup, start, body, run, window: float, n_windows: int):
-    """The elastic diaphragm's windows (module doc). Returns the per-window samples, the
-    membrane data and the :class:`Contents`."""
-    parts = _assemble(setup, body, run, window)
-    membrane = parts.membrane
-    samples = []
-    sample = _sampler(setup, parts, samples)
+class DiaphragmWindows(SurfaceWindows):
+    """The elastic diaphragm's windows (module doc): the coupling loop
+    (:func:`coupling.start`, :func:`coupling.advance`) between the membrane and the liquid."""
 
-    def on_window(w, data):
-        t = (w.index + 1) * window
-        sample(t, run.elapsed())
-        last = w.residuals[-1] if w.residuals else {}
-        samples[-1].update(coupling_iterations=w.iterations, converged=w.converged,
-                           residual_pressure=float(last.get(PRESSURE, np.nan)))
-        if run.frame_due(w.index + 1):
-            run.record("frames", dict(time=t, node_position=membrane.state.node_position.copy()))
-        run.progress(w.index + 1, f"t = {t:.3f} s, {w.iterations} it, contents x-momentum "
-                                  f"{samples[-1]['momentum'][0]:.3e} kg m/s")
+    def __init__(self, setup, start, body, run: Run, window: float, n_windows: int):
+        super().__init__(window, n_windows)
+        self.parts = parts = _assemble(setup, body, run, window)
+        self.fluid_side = FluidParticipant(parts.fluid, surface=parts.surface)
+        self.surface_data = dict(face_nodes=setup.model.face_nodes,
+                                 node_mass=setup.model.node_mass)
+        self.sample = _sampler(setup, parts)
+        self.sample(run, 0.0, coupling_iterations=0, converged=True,
+                    residual_pressure=0.0)
+        run.record("frames", dict(time=0.0,
+                                  node_position=parts.membrane.state.node_position.copy()))
+        self.loop = start_loop(parts.membrane, self.fluid_side,
+                               coupling_settings(setup.scene["coupling"]), window, n_windows)
 
-    sample(0.0, run.elapsed())
-    samples[0].update(coupling_iterations=0, converged=True, residual_pressure=0.0)
-    run.record("frames", dict(time=0.0, node_position=membrane.state.node_position.copy()))
-    try:
-        couple(membrane, FluidParticipant(parts.fluid, surface=parts.surface),
-               coupling_settings(setup.scene["coupling"]), window, n_windows,
-               on_window=on_window)
-    except (CouplingError, XpbdDivergence) as err:
-        run.stop(str(err))
-    return samples, dict(face_nodes=setup.model.face_nodes,
-                         node_mass=setup.model.node_mass), parts.contents
+    def step(self, run: Run) -> None:
+        membrane, window = self.parts.membrane, self.window
+
+        def on_window(w, data):
+            t = (w.index + 1) * window
+            last = w.residuals[-1] if w.residuals else {}
+            self.sample(run, t, coupling_iterations=w.iterations,
+                        converged=w.converged,
+                        residual_pressure=float(last.get(PRESSURE, np.nan)))
+            self.k = w.index + 1
+            if run.frame_due(w.index + 1):
+                run.record("frames", dict(time=t,
+                                          node_position=membrane.state.node_position.copy()))
+            run.progress(w.index + 1, f"t = {t:.3f} s, {w.iterations} it, contents "
+                                      f"x-momentum {run.groups['windows'][-1]['momentum'][0]:.3e}"
+                                      " kg m/s")
+
+        try:
+            advance_loop(self.loop, membrane, self.fluid_side, on_window)
+        except (CouplingError, XpbdDivergence) as err:
+            self.stop(run, str(err))
+
+    def finish(self):
+        return self.surface_data, self.parts.contents

@@ -73,7 +73,8 @@ def thesis_ramp(setup, progress: Progress) -> RunResult:
     run = Run(progress, n_steps, th["frame_interval"])
     state, first = ThesisState(model.node_rest_position), 1
     if setup.resume is not None:
-        state, first, run.groups = (setup.resume[k] for k in ("state", "next_step", "groups"))
+        state, first = setup.resume["state"], setup.resume["next_step"]
+        run.resumed(setup.resume)
     due = CheckpointDue(th["checkpoint_interval"], th["checkpoint_seconds"])
     for k in range(first, n_steps + 1):
         h = h0 + (h1 - h0) * k / n_steps  # App. B updates the height before each step
@@ -89,7 +90,7 @@ def thesis_ramp(setup, progress: Progress) -> RunResult:
             run.progress(k, f"t = {k * th['dt']:.3f} s, h = {h:+.4f} m")
         if setup.checkpoint is not None and k < n_steps and due(k):
             write_checkpoint(setup.checkpoint, dict(state=state, next_step=k + 1,
-                                                    groups=run.groups,
+                                                    groups=run.groups, elapsed=run.elapsed(),
                                                     scene=setup.scene.text))
     history = stack(run.groups["history"])
     groups, attrs = full_inversion_parts(setup, full)

@@ -1,0 +1,103 @@
+"""``slosh.surface = "limp"``: the limp diaphragm in a slosh run, i.e. the liquid's free
+surface.
+
+* Surface: a height surface over the fluid grid's columns (:class:`fsi.limp.HeightSurface`),
+  slack, massless and without bending, moved each window by the last liquid step's column
+  fluxes, the liquid volume held by a uniform shift (:func:`fsi.limp.advance_heights`).
+* Liquid: one free-surface step on the 3-D grid under it per window
+  (:mod:`fluid.free_surface`).
+* Per window, beside the liquid's measures: the surface's gravitational potential energy
+  1/2 rho g sum A_i (h_i - z0)^2 (J), A_i the part of node i's column inside the tank.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from fluid.free_surface import column_rates, surface_of
+from fluid.measures import angular_momentum, dissipation_rate, kinetic_energy, momentum
+from fluid.model import FluidModel
+from fluid.solver import FluidSolver
+from fluid.tank import tank_grid
+
+from ..lateral_compliance import Compliance, free_surface_compliance
+from ..limp import HeightSurface, advance_heights
+from ..lifecycle import Run
+from .slosh_surfaces import Contents, Start, SurfaceWindows, register_surface
+
+
+def node_areas(surface: HeightSurface, spacing: float, radius: float, level: float,
+               subdivisions: int = 8) -> np.ndarray:
+    """(n_nodes,) m^2: the part of each node's column (a cell's cross-section around it)
+    inside the tank's circle at the level (midpoint rule on a subdivided square)."""
+    offsets = (np.arange(subdivisions) + 0.5) / subdivisions - 0.5
+    dx, dy = np.meshgrid(offsets * spacing, offsets * spacing, indexing="ij")
+    x = surface.plan[:, 0, None] + dx.ravel()
+    y = surface.plan[:, 1, None] + dy.ravel()
+    inside = x**2 + y**2 < radius**2 - level**2
+    return inside.mean(axis=1) * spacing**2
+
+
+@register_surface("limp")
+class LimpWindows(SurfaceWindows):
+    """The limp diaphragm's windows (module doc): the height surface and the free-surface
+    liquid under it."""
+
+    def __init__(self, setup, start: Start, body, run: Run, window: float, n_windows: int):
+        super().__init__(window, n_windows)
+        scene = setup.scene
+        radius = setup.model.radius
+        grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
+        self.model = FluidModel(grid=grid, container=start.tank, density=setup.liquid.density,
+                                viscosity=scene["fluid"]["viscosity"], body_acceleration=body,
+                                interface_condition="free")
+        self.surface = HeightSurface(grid, bottom=-2.0 * radius)
+        self.heights = self.surface.flat(start.level)
+        self.fluid = FluidSolver(self.model, self.surface.interface(self.heights))
+        self.volume = self.fluid.liquid_volume
+        self.level = start.level
+        self.plan_area = np.pi * (radius**2 - start.level**2)
+        self.node_area = node_areas(self.surface, grid.spacing, radius, start.level)
+        self.density = setup.liquid.density
+        self.gravity = -float(setup.liquid.body_acceleration[2])
+        self.centre = start.centre
+        self.sample(run, 0.0)
+        run.record("frames", dict(time=0.0, surface_height=self.heights.copy()))
+
+    def sample(self, run: Run, t: float) -> None:
+        """Records the ``windows`` record at time ``t`` (s) in ``run``."""
+        model, state = self.model, self.fluid.state
+        free = surface_of(model, state.geometry).faces if model.viscosity > 0 else None
+        rise = self.heights.ravel() - self.level
+        run.record("windows", dict(
+            time=t, momentum=momentum(model, state),
+            angular_momentum=angular_momentum(model, state),
+            liquid_kinetic_energy=kinetic_energy(model, state),
+            potential_energy=0.5 * self.density * self.gravity * float(
+                np.sum(self.node_area * rise**2)),
+            dissipation_rate=dissipation_rate(model, state, free),
+            fluid_liquid_volume=self.fluid.liquid_volume, wall_seconds=run.elapsed()))
+
+    def step(self, run: Run) -> None:
+        k, surface, window = self.k, self.surface, self.window
+        t = (k + 1) * window
+        rate = surface.node_rates(*column_rates(self.model, self.fluid.state))
+        shift = (self.volume - self.fluid.liquid_volume) / self.plan_area
+        self.heights = advance_heights(self.heights, rate, window, shift)
+        velocity = self.fluid.velocity_at(surface.points(self.heights))
+        velocity[:, 2] = rate.ravel()
+        self.fluid.advance(window, surface.interface(self.heights, velocity))
+        if not np.all(np.isfinite(self.heights)):
+            self.stop(run, f"the surface is not finite at t = {t:.4f} s")
+            return
+        self.sample(run, t)
+        self.k += 1
+        if run.frame_due(k + 1):
+            run.record("frames", dict(time=t, surface_height=self.heights.copy()))
+        moment = float(np.sum(self.node_area * self.heights.ravel() * surface.plan[:, 0]))
+        run.progress(k + 1, f"t = {t:.3f} s, surface x-moment {moment:.3e} m^4")
+
+    def finish(self):
+        compliance = Compliance(free_surface_compliance(float(self.centre[2]), self.gravity),
+                                0.0, True)
+        contents = Contents(self.volume, self.density * self.volume, self.centre, compliance)
+        return dict(node_plan=self.surface.plan, node_area=self.node_area), contents
