@@ -64,13 +64,12 @@ class ProgressBar:
         self.bar.close()
 
 
-def cmd_run(args) -> int:
-    from tqdm.contrib.logging import logging_redirect_tqdm
-
+def _prepare_run(args):
+    """(folder, scene, setup) of ``fsi run``: the results folder checked and the scene built
+    and validated before anything is computed; with ``--resume`` the checkpoint read, and the
+    checkpoint file set when the scene asks for checkpoints."""
     from .build import build
     from .checkpoint import CHECKPOINT_FILE, read as read_checkpoint, wanted as wants_checkpoints
-    from .output import write_result
-    from .plots import make_plots
     from .run_folder import RunFolder
     from .scene import load_scene
 
@@ -84,12 +83,29 @@ def cmd_run(args) -> int:
                              f"scene text than '{args.scene}'")
     if wants_checkpoints(scene):
         setup = dataclasses.replace(setup, checkpoint=folder.stage() / CHECKPOINT_FILE)
+    return folder, scene, setup
+
+
+def cmd_run(args) -> int:
+    from tqdm.contrib.logging import logging_redirect_tqdm
+
+    from .output import write_result
+    from .plots import make_plots
+    from .registry import StartFailure
+
+    folder, scene, setup = _prepare_run(args)
     procedure = setup.procedure
     bar = ProgressBar(scene.name)
     t0 = time.perf_counter()
     try:
         with stop_on_signals(), logging_redirect_tqdm():  # logs on lines of their own
             result = procedure(setup, bar)
+    except StartFailure as err:
+        bar.close()
+        folder.discard()
+        print(f"fsi: error: the run could not start: {err}; nothing was written",
+              file=sys.stderr)
+        return 1
     finally:
         bar.close()
     result.attrs["run_seconds"] = time.perf_counter() - t0

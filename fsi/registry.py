@@ -104,7 +104,8 @@ class Procedure:
         interrupted between units of work (:class:`fsi.lifecycle.Interrupted`), or stopped by
         a solver's error the procedure did not handle (:func:`solver_failures`), returns
         what it recorded, with ``interrupted`` (the signal's number) or ``solver_failure``
-        (the error's type) and ``failure`` set."""
+        (the error's type) and ``failure`` set; such an error before the run started raises
+        :class:`StartFailure`."""
         from .lifecycle import Interrupted, Run
 
         Run.current = None
@@ -115,9 +116,14 @@ class Procedure:
             return stop.run.result(interrupted=stop.signal)
         except solver_failures() as err:
             if Run.current is None:
-                raise
+                raise StartFailure(f"{type(err).__name__}: {err}") from err
             Run.current.failure = f"{type(err).__name__}: {err}"
             return Run.current.result(solver_failure=type(err).__name__)
+
+
+class StartFailure(Exception):
+    """A solver's error before the run recorded anything (e.g. in a static sweep's full
+    inversion): there is nothing to write; ``fsi run`` says so in one line, exit 1."""
 
 
 def solver_failures() -> tuple:

@@ -31,6 +31,7 @@ class RunFolder:
         self.out = Path(out)
         self.overwrite = overwrite
         self.staging: Path | None = None
+        self.resumed = resume
         if resume:
             self.staging = self.checkpoint().parent
         else:
@@ -71,6 +72,13 @@ class RunFolder:
             self.staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{self.out.name}-",
                                                  dir=self.out.resolve().parent))
         return self.staging
+
+    def discard(self) -> None:
+        """Remove a staging folder this run made (not a resumed run's, which holds its
+        checkpoint): nothing was written."""
+        if self.staging is not None and not self.resumed:
+            shutil.rmtree(self.staging, ignore_errors=True)
+            self.staging = None
 
     def commit(self) -> Path:
         """Put the staged run in place of ``out`` (an earlier one removed); returns ``out``."""

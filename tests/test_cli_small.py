@@ -66,3 +66,44 @@ def test_only_our_own_info_lines_by_default(tmp_path):
     info = [line for line in run.stderr.splitlines() if line.startswith("INFO ")]
     assert info and all(line.startswith("INFO fsi") for line in info)
     assert main(["-v", "scenes"]) == 0
+
+
+def _sweep_scene(tmp_path, grid_size: int):
+    scene = tmp_path / "big.toml"
+    scene.write_text(load_scene("thesis-static").text.replace("grid_size = 26",
+                                                              f"grid_size = {grid_size}"))
+    return scene
+
+
+def test_absurd_grids_are_refused_before_anything_is_computed(tmp_path, capsys):
+    """A membrane grid too large for the memory, or for the relaxation's step, is one line
+    naming the keys, exit 2, before the run starts and with nothing written. At the thesis's
+    dt = 2e-4 s the full inversion's first pseudo-step moves a node 1.03 of its length at
+    N = 400 (the relaxation's limit is 1)."""
+    out = tmp_path / "run"
+    assert main(["run", str(_sweep_scene(tmp_path, 1_000_000)), "--out", str(out)]) == 2
+    assert "'membrane.grid_size' = 1000000" in capsys.readouterr().err
+    assert main(["run", str(_sweep_scene(tmp_path, 400)), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert "'relaxation.dt' = 0.0002 s and 'membrane.grid_size' = 400" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.toml"]
+
+
+def test_a_solver_error_before_the_run_starts_is_one_line(tmp_path, capsys, monkeypatch):
+    """A solver's error before a run has recorded anything (here the full inversion's
+    relaxation, made to fail) ends with one line and exit 1, and writes nothing."""
+    from fsi.procedures import volume_sweep
+    from structure.thesis import CourantError
+
+    def fails(setup):
+        raise CourantError("pseudo-step 7: a node moved 2 of its length in one step")
+
+    monkeypatch.setattr(volume_sweep, "full_inversion", fails)
+    out = tmp_path / "run"
+    assert main(["run", str(_sweep_scene(tmp_path, 10)), "--out", str(out)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.splitlines()[-1] == ("fsi: error: the run could not start: CourantError: "
+                                    "pseudo-step 7: a node moved 2 of its length in one step; "
+                                    "nothing was written")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.toml"]

@@ -17,7 +17,7 @@ import numpy as np
 
 from structure.model import MembraneState
 
-from ..fill import FILL_SCALES, check_reachable, full_inversion
+from ..fill import FILL_SCALES, check_first_step, check_reachable, full_inversion
 from ..limits import check_time_step, courant_time_step_limit
 from ..lifecycle import Progress, Run, RunResult
 from ..models import STRUCTURE_MODELS, hydrostatic_load
@@ -65,6 +65,7 @@ def volume_sweep(setup, progress: Progress) -> RunResult:
 def _check_setup(setup) -> None:
     check_time_step("relaxation.dt", setup.relaxation.dt,
                     courant_time_step_limit(setup.model, setup.liquid, setup.model.radius))
+    check_first_step(setup)
 
 
 PROCEDURE = register_procedure(Procedure(
