@@ -16,7 +16,7 @@ import numpy as np
 from structure.thesis import DAMPING_MODES, ThesisSettings, ThesisState, step
 
 from ..checkpoint import CheckpointDue, write as write_checkpoint
-from ..fill import full_inversion
+from ..fill import check_first_step, full_inversion
 from ..limits import check_time_step, courant_time_step_limit
 from ..lifecycle import Progress, Run, RunResult, stack
 from ..models import hydrostatic_load
@@ -115,6 +115,7 @@ def _check_setup(setup) -> None:
     th = setup.scene["thesis"]
     h = max(abs(th["height_start"]), abs(th["height_end"])) * setup.model.radius
     check_time_step("thesis.dt", th["dt"], courant_time_step_limit(setup.model, setup.liquid, h))
+    check_first_step(setup)  # the fill scale's full inversion
 
 
 PROCEDURE = register_procedure(Procedure(
