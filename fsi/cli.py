@@ -1,6 +1,8 @@
-"""Command line: ``fsi run``, ``fsi compare``, ``fsi advise``, ``fsi show``, ``fsi scenes``.
+"""Command line: ``fsi run``, ``fsi sweep``, ``fsi compare``, ``fsi advise``, ``fsi show``,
+``fsi scenes``.
 
     fsi run <bundled scene | scene.toml> --out DIR [--no-plots]
+    fsi sweep <bundled sweep | sweep.toml> --out DIR [--workers N | --scheduler ADDRESS]
     fsi compare A B [--fill F] [--obj-scale S]
     fsi advise <bundled scene | scene.toml> [--accuracy PERCENT]
     fsi show DIR
@@ -10,176 +12,81 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
-import dataclasses
 import logging
-import signal
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
+from .run_job import (EXIT_NOT_CONVERGED, ProgressBar, UsageError, guarded,  # noqa: F401
+                      not_converged, run as cmd_run)
+
 log = logging.getLogger("fsi")
 
 
-class ProgressBar:
-    """Progress with ETA on stderr (tqdm), driven by fraction done. The ETA is the rate since
-    the first work reported, so a long setup (a static start) does not inflate it."""
+class SweepBar:
+    """A sweep's progress on stderr: cases done of those to run, ETA (tqdm), failures, and a
+    line per case as it finishes."""
 
     def __init__(self, label: str):
+        self.label, self.bar, self.failed = label, None, 0
+
+    def start(self, total: int, skipped: int) -> None:
         from tqdm import tqdm
 
-        self.bar = tqdm(total=1000, desc=label, unit="‰", file=sys.stderr,
-                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}{postfix}",
-                        mininterval=0.5)
-        self.last = -1e9
-        self.first = None  # (time, fraction) of the first report with work done
+        if skipped:
+            print(f"{self.label}: {skipped} cases finished before, skipped", file=sys.stderr)
+        self.bar = tqdm(total=total, desc=self.label, unit="case", file=sys.stderr)
 
-    def eta(self, now: float, fraction: float) -> str:
-        """'ETA h:mm:ss' from the rate since the first report with work done, or '' before
-        there is a rate."""
-        from tqdm import tqdm
+    def done(self, case, record: dict) -> None:
+        self.failed += record["status"] in (1, 2) or record["status"] < 0
+        self.bar.write(f"  {case.name}: exit {record['status']}, {record['seconds']:.1f} s"
+                       + (f" ({record['reason']})" if record["reason"] else ""),
+                       file=sys.stderr)
+        self.bar.set_postfix_str(f"{self.failed} failed", refresh=False)
+        self.bar.update(1)
 
-        if self.first is None:
-            if fraction > 0:
-                self.first = (now, fraction)
-            return ""
-        t0, f0 = self.first
-        if fraction <= f0:
-            return ""
-        return "ETA " + tqdm.format_interval((now - t0) / (fraction - f0) * (1 - fraction))
-
-    def __call__(self, fraction: float, message: str) -> None:
-        now = time.monotonic()
-        eta = self.eta(now, fraction)
-        if fraction < 1.0 and now - self.last < 0.5:
-            return
-        self.last = now
-        self.bar.n = int(1000 * fraction)
-        self.bar.set_postfix_str(f"{eta}, {message}" if eta else message, refresh=False)
-        self.bar.refresh()
-
-    def close(self):
-        self.bar.close()
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
 
 
-def _prepare_run(args):
-    """(folder, scene, setup) of ``fsi run``: the results folder checked and the scene built
-    and validated before anything is computed; with ``--resume`` the checkpoint read, and the
-    checkpoint file set when the scene asks for checkpoints."""
-    from .build import build
-    from .checkpoint import CHECKPOINT_FILE, read as read_checkpoint, wanted as wants_checkpoints
-    from .run_folder import RunFolder
-    from .scene import load_scene
+def cmd_sweep(args) -> int:
+    from . import sweep_data
+    from .sweep_file import load_sweep
+    from .sweep_run import run_sweep
 
-    folder = RunFolder(args.out, args.overwrite, args.resume)  # before anything is computed
-    scene = load_scene(args.scene)
-    setup = build(scene)  # validates the time step before anything is written
-    if args.resume:
-        setup = dataclasses.replace(setup, resume=read_checkpoint(folder.checkpoint()))
-        if setup.resume.get("scene") != scene.text:
-            raise UsageError(f"--resume: the checkpoint in '{folder.stage()}' is of another "
-                             f"scene text than '{args.scene}'")
-    if wants_checkpoints(scene):
-        setup = dataclasses.replace(setup, checkpoint=folder.stage() / CHECKPOINT_FILE)
-    return folder, scene, setup
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers {args.workers}: allowed an integer >= 1")
+    import distributed  # noqa: F401  (its logging set up on import; quieted after)
 
-
-def cmd_run(args) -> int:
-    from tqdm.contrib.logging import logging_redirect_tqdm
-
-    from .output import write_result
-    from .plots import make_plots
-    from .registry import StartFailure
-
-    folder, scene, setup = _prepare_run(args)
-    procedure = setup.procedure
-    bar = ProgressBar(scene.name)
-    t0 = time.perf_counter()
+    if not args.verbose:
+        logging.getLogger("distributed").setLevel(logging.WARNING)
+    sweep = load_sweep(args.sweep)  # every case built and checked before anything runs
+    print(f"sweep {sweep.name}: {len(sweep.cases)} cases over "
+          + " x ".join(f"{a.name} ({a.size})" for a in sweep.axes), file=sys.stderr)
+    bar = SweepBar(sweep.name)
     try:
-        with stop_on_signals(), logging_redirect_tqdm():  # logs on lines of their own
-            result = procedure(setup, bar)
-    except StartFailure as err:
-        bar.close()
-        folder.discard()
-        print(f"fsi: error: the run could not start: {err}; nothing was written",
-              file=sys.stderr)
-        return 1
+        outcome = run_sweep(sweep, args.out, scheduler=args.scheduler, workers=args.workers,
+                            resume=args.resume, overwrite=args.overwrite, plots=args.plots,
+                            progress=bar)
     finally:
         bar.close()
-    result.attrs["run_seconds"] = time.perf_counter() - t0
-    write_result(folder.stage(), scene, setup.model, result)
-    if "interrupted" in result.attrs:
-        out = folder.commit()
-        name = signal.Signals(result.attrs["interrupted"]).name
-        print(f"fsi: interrupted by {name}: the work done is in '{out}' (no plots)",
-              file=sys.stderr)
-        return 128 + int(result.attrs["interrupted"])
-    if "solver_failure" in result.attrs:
-        out = folder.commit()
-        print(f"fsi: error: the run stopped: {result.attrs['failure']}; the work done is in "
-              f"'{out}' (no plots)", file=sys.stderr)
-        return 1
-    procedure.report(result)
-    plots = [] if args.no_plots else make_plots(folder.stage())
-    out = folder.commit()
-    log.info("wrote %s (%.1f s) and %d plots", out, result.attrs["run_seconds"], len(plots))
-    if result.attrs.get("failure"):
-        print(f"fsi: error: the run stopped early: {result.attrs['failure']}", file=sys.stderr)
-        return 1
-    if result.attrs.get("analysis_failure"):
-        print(f"fsi: error: the run's analysis failed: {result.attrs['analysis_failure']}",
+    dataset = sweep_data.collect(sweep, args.out)
+    path = sweep_data.write(dataset, args.out)
+    plots = sweep_data.plot(dataset, sweep.plot, args.out)
+    print(f"wrote {path} ({len(sweep.cases)} cases, {len(outcome.records)} run, "
+          f"{len(outcome.skipped)} skipped, {outcome.seconds:.1f} s) and {len(plots)} plots")
+    if outcome.failed:
+        print(f"fsi: error: {len(outcome.failed)} of {len(sweep.cases)} cases failed: "
+              + "; ".join(f"{n}: {outcome.records[n]['reason']}" for n in outcome.failed),
               file=sys.stderr)
         return 1
-    unconverged = not_converged(result)
-    if unconverged:
-        print(f"fsi: warning: the run finished, but not everything converged: {unconverged} "
-              f"(results in '{out}')", file=sys.stderr)
+    if outcome.unconverged:
+        print(f"fsi: warning: {len(outcome.unconverged)} cases did not converge in "
+              f"everything: {', '.join(outcome.unconverged)}", file=sys.stderr)
         return EXIT_NOT_CONVERGED
     return 0
-
-
-EXIT_NOT_CONVERGED = 3
-"""``fsi run``'s exit status when the run finished and was written but some fill, frame or
-window did not converge (0: all converged; 1: stopped early; 2: bad input)."""
-
-
-def not_converged(result) -> str:
-    """'' when every ``converged`` entry of every group and every true-or-false
-    ``*_converged`` attribute of ``result`` holds (a count such as ``windows_not_converged``
-    is not one); else what did not, e.g. '1 of 999 windows, start'."""
-    parts = [f"{int(np.sum(~np.asarray(g['converged'], dtype=bool)))} of {len(g['converged'])} "
-             f"{name}" for name, g in result.groups.items()
-             if "converged" in g and not np.all(g["converged"])]
-    parts += [key[:-len("_converged")] for key, value in result.attrs.items()
-              if key.endswith("_converged") and isinstance(value, (bool, np.bool_))
-              and not value]
-    return ", ".join(parts)
-
-
-@contextlib.contextmanager
-def stop_on_signals():
-    """While inside: SIGINT and SIGTERM ask the run to stop at the end of its current unit of
-    work (:data:`fsi.lifecycle.STOP`); a second one stops at once."""
-    from .lifecycle import STOP
-
-    def ask(signum, frame):
-        if STOP.signal is not None:
-            raise KeyboardInterrupt
-        STOP.signal = signum
-
-    previous = {s: signal.signal(s, ask) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        STOP.signal = None
-
-
-class UsageError(Exception):
-    """A command-line value out of range: one line on stderr, exit status 2."""
 
 
 PAIRING_TOLERANCE = 0.01
@@ -353,17 +260,8 @@ def cmd_show(args) -> int:
     return 0
 
 
-def main(argv=None) -> int:
-    from .output import software_version
-    from .run_folder import OutputError
-    from .scene import SceneError
-
-    parser = argparse.ArgumentParser(prog="fsi", description=__doc__.splitlines()[0])
-    parser.add_argument("--version", action="version",
-                        version=f"slosh-fsi {software_version()}")
-    parser.add_argument("-v", "--verbose", action="store_true",
-                        help="show the libraries' INFO messages too (FiPy's)")
-    sub = parser.add_subparsers(dest="command", required=True)
+def _run_parsers(sub) -> None:
+    """The ``run`` and ``sweep`` subcommands."""
     p = sub.add_parser("run", help="run a scene and write results and plots")
     p.add_argument("scene", help="bundled scene name or path to a .toml scene file")
     p.add_argument("--out", required=True, help="output folder")
@@ -374,6 +272,23 @@ def main(argv=None) -> int:
                    help="continue a stopped run from its last checkpoint "
                         "(dynamics.checkpoint_interval)")
     p.set_defaults(func=cmd_run)
+    p = sub.add_parser("sweep", help="run many cases of a scene on Dask, one dataset")
+    p.add_argument("sweep", help="bundled sweep name or path to a sweep .toml file")
+    p.add_argument("--out", required=True, help="output folder of the sweep")
+    p.add_argument("--workers", type=int,
+                   help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--scheduler", help="address of an existing Dask scheduler to use "
+                                       "(its workers must see --out)")
+    p.add_argument("--resume", action="store_true",
+                   help="continue a sweep in --out: finished cases are skipped")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing sweep folder whole")
+    p.add_argument("--plots", action="store_true", help="also write each case's plots")
+    p.set_defaults(func=cmd_sweep)
+
+
+def _result_parsers(sub) -> None:
+    """The ``compare``, ``advise``, ``scenes`` and ``show`` subcommands."""
     p = sub.add_parser("compare", help="Eqn 6.1 error per fill between two results, "
                                        "or a result and a Wavefront .obj surface")
     p.add_argument("a", help="result folder or result.h5 (compared)")
@@ -401,15 +316,24 @@ def main(argv=None) -> int:
                                     "convergence, failure, version")
     p.add_argument("run", help="result folder or result.h5")
     p.set_defaults(func=cmd_show)
+
+
+def main(argv=None) -> int:
+    from .output import software_version
+
+    parser = argparse.ArgumentParser(prog="fsi", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version",
+                        version=f"slosh-fsi {software_version()}")
+    parser.add_argument("-v", "--verbose", action="store_true",
+                        help="show the libraries' INFO messages too (FiPy's)")
+    sub = parser.add_subparsers(dest="command", required=True)
+    _run_parsers(sub)
+    _result_parsers(sub)
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
     logging.getLogger("fsi").setLevel(logging.INFO)
-    try:
-        return args.func(args)
-    except (SceneError, UsageError, OutputError, FileNotFoundError) as exc:
-        print(f"fsi: error: {exc}", file=sys.stderr)
-        return 2
+    return guarded(args.func, args)
 
 
 if __name__ == "__main__":

@@ -55,11 +55,30 @@ UNITS = {
 UNIT_PREFIXES = {"deflection_": "m", "centre_deflection_": "m", "valid_": "1"}
 """Units of the per-estimate datasets of a plate-estimate run (``deflection_small``, ...)."""
 
+ATTR_UNITS = {
+    "lambda1": "1", "zeta": "1", "omega": "rad/s", "frequency_hz": "Hz", "radius": "m",
+    "pendulum_length": "m", "spring_stiffness": "N/m", "peak_force_x": "N",
+    "peak_moment_y": "N m", "static_compliance": "s^2", "modal_compliance": "s^2",
+    "slosh_mass_fraction": "1", "target_tank_fraction": "1", "level": "m",
+    "run_seconds": "s", "seconds_per_period": "s", "window": "s", "viscosity": "Pa s",
+    "full_volume": "m^3", "empty_volume": "m^3", "start_volume": "m^3",
+    "start_pressure_level": "Pa", "substep": "s", "centre_of_mass_amplitude": "m",
+    "first_mode_bound_hz": "Hz",
+}
+"""Units of the run facts (result attributes) a sweep's dataset gathers."""
+
+UNIT_SUFFIXES = {"_std": None, "_height": "m", "_mass": "kg", "_hz": "Hz", "_seconds": "s",
+                 "_volume": "m^3"}
+"""Units by the name's ending (``_std``: the units of the name without it)."""
+
 
 def units_of(name: str) -> str:
     """The units of dataset ``name`` ('' where it has none)."""
-    if name in UNITS:
-        return UNITS[name]
+    if name in UNITS or name in ATTR_UNITS:
+        return UNITS.get(name, ATTR_UNITS.get(name))
+    for suffix, unit in UNIT_SUFFIXES.items():
+        if name.endswith(suffix):
+            return units_of(name[:-len(suffix)]) if unit is None else unit
     return next((u for prefix, u in UNIT_PREFIXES.items() if name.startswith(prefix)), "")
 
 

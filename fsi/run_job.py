@@ -1,0 +1,202 @@
+"""``fsi run``: one scene run into a results folder (:mod:`fsi.run_folder`), with progress,
+signals, checkpoints and an exit status that says how it went; what ``fsi sweep`` runs for
+each case too (:func:`fsi.sweep_run.run_case`).
+
+Exit status: 0 all converged; 1 the run stopped early (written) or could not start (nothing
+written); 2 bad input; 3 (:data:`EXIT_NOT_CONVERGED`) finished and written, something did not
+converge; 128 + n stopped by signal n (SIGINT 130, SIGTERM 143).
+"""
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import logging
+import signal
+import sys
+import time
+
+import numpy as np
+
+log = logging.getLogger("fsi")
+
+
+def guarded(command, args) -> int:
+    """``command(args)``; bad input (a scene, a value, an output folder, a missing file) is
+    one line on stderr and exit status 2."""
+    from .registry import SceneError
+    from .run_folder import OutputError
+
+    try:
+        return command(args)
+    except (SceneError, UsageError, OutputError, FileNotFoundError) as exc:
+        print(f"fsi: error: {exc}", file=sys.stderr)
+        return 2
+
+
+class UsageError(Exception):
+    """A command-line value out of range: one line on stderr, exit status 2."""
+
+
+
+class ProgressBar:
+    """Progress with ETA on stderr (tqdm), driven by fraction done. The ETA is the rate since
+    the first work reported, so a long setup (a static start) does not inflate it."""
+
+    def __init__(self, label: str):
+        from tqdm import tqdm
+
+        self.bar = tqdm(total=1000, desc=label, unit="‰", file=sys.stderr,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}{postfix}",
+                        mininterval=0.5)
+        self.last = -1e9
+        self.first = None  # (time, fraction) of the first report with work done
+
+    def eta(self, now: float, fraction: float) -> str:
+        """'ETA h:mm:ss' from the rate since the first report with work done, or '' before
+        there is a rate."""
+        from tqdm import tqdm
+
+        if self.first is None:
+            if fraction > 0:
+                self.first = (now, fraction)
+            return ""
+        t0, f0 = self.first
+        if fraction <= f0:
+            return ""
+        return "ETA " + tqdm.format_interval((now - t0) / (fraction - f0) * (1 - fraction))
+
+    def __call__(self, fraction: float, message: str) -> None:
+        now = time.monotonic()
+        eta = self.eta(now, fraction)
+        if fraction < 1.0 and now - self.last < 0.5:
+            return
+        self.last = now
+        self.bar.n = int(1000 * fraction)
+        self.bar.set_postfix_str(f"{eta}, {message}" if eta else message, refresh=False)
+        self.bar.refresh()
+
+    def close(self):
+        self.bar.close()
+
+
+def prepare(args):
+    """(folder, scene, setup) of ``fsi run``: the results folder checked and the scene built
+    and validated before anything is computed; with ``--resume`` the checkpoint read, and the
+    checkpoint file set when the scene asks for checkpoints."""
+    from .build import build
+    from .checkpoint import CHECKPOINT_FILE, read as read_checkpoint, wanted as wants_checkpoints
+    from .run_folder import RunFolder
+    from .scene import load_scene
+
+    folder = RunFolder(args.out, args.overwrite, args.resume)  # before anything is computed
+    scene = load_scene(args.scene)
+    setup = build(scene)  # validates the time step before anything is written
+    if args.resume:
+        setup = dataclasses.replace(setup, resume=read_checkpoint(folder.checkpoint()))
+        if setup.resume.get("scene") != scene.text:
+            raise UsageError(f"--resume: the checkpoint in '{folder.stage()}' is of another "
+                             f"scene text than '{args.scene}'")
+    if wants_checkpoints(scene):
+        setup = dataclasses.replace(setup, checkpoint=folder.stage() / CHECKPOINT_FILE)
+    return folder, scene, setup
+
+
+def run(args) -> int:
+    """``fsi run`` with the parsed ``args`` (scene, out, no_plots, overwrite, resume);
+    returns the exit status (module doc)."""
+    from tqdm.contrib.logging import logging_redirect_tqdm
+
+    from .output import write_result
+    from .plots import make_plots
+    from .registry import StartFailure
+
+    folder, scene, setup = prepare(args)
+    procedure = setup.procedure
+    bar = ProgressBar(scene.name)
+    t0 = time.perf_counter()
+    try:
+        with stop_on_signals(), logging_redirect_tqdm():  # logs on lines of their own
+            result = procedure(setup, bar)
+    except StartFailure as err:
+        bar.close()
+        folder.discard()
+        print(f"fsi: error: the run could not start: {err}; nothing was written",
+              file=sys.stderr)
+        return 1
+    finally:
+        bar.close()
+    result.attrs["run_seconds"] = time.perf_counter() - t0
+    write_result(folder.stage(), scene, setup.model, result)
+    if "interrupted" in result.attrs:
+        out = folder.commit()
+        name = signal.Signals(result.attrs["interrupted"]).name
+        print(f"fsi: interrupted by {name}: the work done is in '{out}' (no plots)",
+              file=sys.stderr)
+        return 128 + int(result.attrs["interrupted"])
+    if "solver_failure" in result.attrs:
+        out = folder.commit()
+        print(f"fsi: error: the run stopped: {result.attrs['failure']}; the work done is in "
+              f"'{out}' (no plots)", file=sys.stderr)
+        return 1
+    procedure.report(result)
+    plots = [] if args.no_plots else make_plots(folder.stage())
+    out = folder.commit()
+    log.info("wrote %s (%.1f s) and %d plots", out, result.attrs["run_seconds"], len(plots))
+    if result.attrs.get("failure"):
+        print(f"fsi: error: the run stopped early: {result.attrs['failure']}", file=sys.stderr)
+        return 1
+    if result.attrs.get("analysis_failure"):
+        print(f"fsi: error: the run's analysis failed: {result.attrs['analysis_failure']}",
+              file=sys.stderr)
+        return 1
+    unconverged = not_converged(result)
+    if unconverged:
+        print(f"fsi: warning: the run finished, but not everything converged: {unconverged} "
+              f"(results in '{out}')", file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    return 0
+
+
+EXIT_NOT_CONVERGED = 3
+"""``fsi run``'s exit status when the run finished and was written but some fill, frame or
+window did not converge (0: all converged; 1: stopped early; 2: bad input)."""
+
+
+def not_converged(result) -> str:
+    """'' when every ``converged`` entry of every group and every true-or-false
+    ``*_converged`` attribute of ``result`` holds (a count such as ``windows_not_converged``
+    is not one); else what did not, e.g. '1 of 999 windows, start'."""
+    parts = [f"{int(np.sum(~np.asarray(g['converged'], dtype=bool)))} of {len(g['converged'])} "
+             f"{name}" for name, g in result.groups.items()
+             if "converged" in g and not np.all(g["converged"])]
+    parts += [key[:-len("_converged")] for key, value in result.attrs.items()
+              if key.endswith("_converged") and isinstance(value, (bool, np.bool_))
+              and not value]
+    return ", ".join(parts)
+
+
+@contextlib.contextmanager
+def stop_on_signals():
+    """While inside: SIGINT and SIGTERM ask the run to stop at the end of its current unit of
+    work (:data:`fsi.lifecycle.STOP`); a second one stops at once. Off the main thread (a
+    sweep's case on a Dask worker) signals are the worker's own: nothing is changed."""
+    import threading
+
+    from .lifecycle import STOP
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def ask(signum, frame):
+        if STOP.signal is not None:
+            raise KeyboardInterrupt
+        STOP.signal = signum
+
+    previous = {s: signal.signal(s, ask) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        STOP.signal = None
