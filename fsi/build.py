@@ -18,7 +18,7 @@ from structure.thesis import ConstraintSettings
 
 from .limits import check_memory
 from .models import choose_model
-from .registry import PROCEDURES, Procedure
+from .registry import PROCEDURES, Procedure, SceneError
 
 
 @dataclass(frozen=True)
@@ -62,6 +62,10 @@ def build(scene) -> Setup:
     check_memory(m["grid_size"])
     material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"])
     model = hemisphere_model(m["grid_size"], scene["tank"]["radius"], material, m["support"])
+    if model.node_fixed.all():
+        raise SceneError(f"scene keys 'membrane.grid_size' = {m['grid_size']} and "
+                         f"'membrane.support' = '{m['support']}': every node is held by the "
+                         "support, none is free; allowed: a larger grid_size")
     liquid = HydrostaticLiquid(scene["liquid"]["density"],
                                tuple(scene["liquid"]["body_acceleration"]))
     constraints = ConstraintSettings(

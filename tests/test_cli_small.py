@@ -90,6 +90,19 @@ def test_absurd_grids_are_refused_before_anything_is_computed(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["big.toml"]
 
 
+def test_a_grid_with_no_free_node_is_refused(tmp_path, capsys):
+    """N = 4 with a clamped rim (two rings held) leaves no node free: one line naming both
+    keys, exit 2, nothing written (found by tests/test_fuzz.py: the relaxation's first step
+    raised a numpy ValueError)."""
+    out = tmp_path / "run"
+    assert main(["run", str(_sweep_scene(tmp_path, 4)), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert "'membrane.grid_size' = 4 and 'membrane.support' = 'clamped'" in err
+    assert "none is free" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.toml"]
+
+
 def test_a_solver_error_before_the_run_starts_is_one_line(tmp_path, capsys, monkeypatch):
     """A solver's error before a run has recorded anything (here the full inversion's
     relaxation, made to fail) ends with one line and exit 1, and writes nothing."""

@@ -3,7 +3,7 @@ Whatever the text, fsi answers with a result or one line naming the file, key or
 exit status 2; no traceback escapes and nothing is written for a refused input."""
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from fsi import registry
@@ -48,6 +48,7 @@ def _scene_text(lines) -> str:
 @settings(max_examples=150, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(lines=st.lists(LINES, max_size=6), raw=st.binary(max_size=20), use_raw=st.booleans())
+@example(lines=[("membrane", "grid_size = 4")], raw=b"", use_raw=False)  # no free node
 def test_any_scene_text_runs_or_is_refused_in_one_line(tmp_path, capsys, monkeypatch, lines,
                                                        raw, use_raw):
     def stop(self, setup, progress):
