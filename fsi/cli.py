@@ -7,6 +7,7 @@
     fsi advise <bundled scene | scene.toml> [--accuracy PERCENT]
     fsi show DIR
     fsi scenes [NAME] [--reference]
+    fsi sweeps [NAME]
     fsi --version
 """
 from __future__ import annotations
@@ -225,6 +226,20 @@ def cmd_scenes(args) -> int:
     return 0
 
 
+def cmd_sweeps(args) -> int:
+    import tomllib
+
+    from .sweep_file import bundled_sweep_text, bundled_sweeps
+
+    if args.name:
+        print(bundled_sweep_text(args.name), end="")
+        return 0
+    for name in bundled_sweeps():
+        head = tomllib.loads(bundled_sweep_text(name)).get("sweep", {})
+        print(f"{name:16s} {head.get('description', '')} (scene {head.get('scene')})")
+    return 0
+
+
 def cmd_advise(args) -> int:
     from .regime import advise_scene, load_table
     from .scene import load_scene
@@ -288,7 +303,7 @@ def _run_parsers(sub) -> None:
 
 
 def _result_parsers(sub) -> None:
-    """The ``compare``, ``advise``, ``scenes`` and ``show`` subcommands."""
+    """The ``compare``, ``advise``, ``scenes``, ``sweeps`` and ``show`` subcommands."""
     p = sub.add_parser("compare", help="Eqn 6.1 error per fill between two results, "
                                        "or a result and a Wavefront .obj surface")
     p.add_argument("a", help="result folder or result.h5 (compared)")
@@ -312,6 +327,9 @@ def _result_parsers(sub) -> None:
     p.add_argument("name", nargs="?", help="print this bundled scene's TOML")
     p.add_argument("--reference", action="store_true", help="print the scene key reference")
     p.set_defaults(func=cmd_scenes)
+    p = sub.add_parser("sweeps", help="list bundled sweeps, or print one to copy")
+    p.add_argument("name", nargs="?", help="print this bundled sweep's TOML")
+    p.set_defaults(func=cmd_sweeps)
     p = sub.add_parser("show", help="summarise a result: scene, procedure, records, "
                                     "convergence, failure, version")
     p.add_argument("run", help="result folder or result.h5")

@@ -263,6 +263,14 @@ def bundled_sweeps() -> list[str]:
                   if p.name.endswith(".toml"))
 
 
+def bundled_sweep_text(name: str) -> str:
+    """The TOML text of the bundled sweep ``name``; :class:`SweepError` when there is none."""
+    if name not in bundled_sweeps():
+        raise SweepError(f"unknown sweep '{name}': not one of the bundled sweeps "
+                         f"{bundled_sweeps()}")
+    return resources.files("fsi.sweeps").joinpath(f"{name}.toml").read_text()
+
+
 def load_sweep(name_or_path: str) -> Sweep:
     """A sweep file by path, or a bundled sweep by name, parsed and every case checked."""
     path = Path(name_or_path)
@@ -273,5 +281,4 @@ def load_sweep(name_or_path: str) -> Sweep:
     if name_or_path not in bundled_sweeps():
         raise SweepError(f"unknown sweep '{name_or_path}': not a file, and not one of the "
                          f"bundled sweeps {bundled_sweeps()}")
-    text = resources.files("fsi.sweeps").joinpath(f"{name_or_path}.toml").read_text()
-    return parse_sweep(text, f"bundled:{name_or_path}")
+    return parse_sweep(bundled_sweep_text(name_or_path), f"bundled:{name_or_path}")

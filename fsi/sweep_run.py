@@ -84,10 +84,10 @@ class SweepOutcome:
         return [n for n, r in self.records.items() if r["status"] == 3]
 
 
-def prepare(sweep: Sweep, out: Path, resume: bool, overwrite: bool) -> list[Case]:
-    """Check and lay out DIR (module doc); returns the cases still to run. An existing DIR
-    is refused unless ``resume`` (then it must hold this sweep) or ``overwrite`` (then it is
-    replaced whole)."""
+def check_out(sweep: Sweep, out: Path, resume: bool, overwrite: bool) -> bool:
+    """Check DIR before anything is written; returns whether it is to be replaced whole. An
+    existing DIR is refused unless ``resume`` (then it must hold this sweep) or
+    ``overwrite``."""
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise OutputError(f"--out '{out}' is a file; give a folder")
@@ -96,11 +96,18 @@ def prepare(sweep: Sweep, out: Path, resume: bool, overwrite: bool) -> list[Case
         if not (out / SWEEP_FILE).is_file() or (out / SWEEP_FILE).read_text() != sweep.text:
             raise OutputError(f"--resume: '{out}' does not hold this sweep (its {SWEEP_FILE} "
                               "differs or is missing)")
-    elif held and overwrite:
-        shutil.rmtree(out)
-    elif held:
+    elif held and not overwrite:
         raise OutputError(f"--out '{out}' already holds files; --resume to continue that "
                           "sweep, --overwrite to replace it whole")
+    return held and not resume
+
+
+def prepare(sweep: Sweep, out: Path, resume: bool, overwrite: bool) -> list[Case]:
+    """Check (:func:`check_out`) and lay out DIR (module doc); returns the cases still to
+    run."""
+    out = Path(out)
+    if check_out(sweep, out, resume, overwrite):
+        shutil.rmtree(out)
     (out / CASES_DIR).mkdir(parents=True, exist_ok=True)
     (out / SWEEP_FILE).write_text(sweep.text)
     for case in sweep.cases:
@@ -168,16 +175,18 @@ def run_sweep(sweep: Sweep, out, client=None, scheduler: str | None = None,
 
     t0 = time.perf_counter()
     out = Path(out)
+    replace = check_out(sweep, out, resume, overwrite)
+    todo = [c for c in sweep.cases if replace or not finished(out, c)]
+    own, cluster = client is None and bool(todo), None
+    if own:  # connected before DIR is written: a scheduler that does not answer leaves none
+        cluster = None if scheduler else local_cluster(workers, len(todo))
+        client = connect(Client, scheduler, cluster)
+        log.info("Dask dashboard: %s", client.dashboard_link)
     todo = prepare(sweep, out, resume, overwrite)
     outcome = SweepOutcome(skipped=[c.name for c in sweep.cases if c not in todo])
     if progress is not None:
         progress.start(len(todo), len(outcome.skipped))
     if todo:
-        own, cluster = client is None, None
-        if own:
-            cluster = None if scheduler else local_cluster(workers, len(todo))
-            client = Client(scheduler or cluster)
-            log.info("Dask dashboard: %s", client.dashboard_link)
         try:
             outcome.records = run_cases(sweep, out, todo, client, plots, progress)
         finally:
@@ -187,6 +196,20 @@ def run_sweep(sweep: Sweep, out, client=None, scheduler: str | None = None,
                 cluster.close()
     outcome.seconds = time.perf_counter() - t0
     return outcome
+
+
+def connect(client_class, scheduler: str | None, cluster):
+    """A client of ``cluster``, or of the scheduler at ``scheduler`` (10 s to answer; else
+    a :class:`fsi.run_job.UsageError` naming --scheduler)."""
+    if not scheduler:
+        return client_class(cluster)
+    from .run_job import UsageError
+
+    try:
+        return client_class(scheduler, timeout="10s")
+    except (OSError, ValueError, TypeError) as err:
+        raise UsageError(f"--scheduler {scheduler}: no Dask scheduler answered there "
+                         f"({err})") from None
 
 
 def case_records(out: Path) -> dict:

@@ -14,6 +14,7 @@ import pytest
 from fsi.cli import main
 from fsi.output import read_result
 from fsi.sweep_file import SweepError, expand, parse_sweep
+from tests.test_checkpoint import SLOSH
 
 TINY_SCENE = """[scene]
 name = "tiny"
@@ -58,6 +59,17 @@ def test_axes_expand_lists_ranges_and_zipped_keys(tmp_path):
     assert case.name == "grid_size=10,fills=0.1x0.5,youngs_modulus=8e+06,density=1100"
     assert 'grid_size = 10' in case.scene_text and "youngs_modulus = 8000000.0" in case.scene_text
     assert expand("k", {"start": 0.1, "stop": 0.9, "num": 9})[2] == 0.3  # rounded, not 0.30..04
+
+
+@pytest.mark.parametrize("name, cases", [("slosh-by-fill", 18), ("static-by-model", 12)])
+def test_bundled_sweeps_build_every_case(name, cases, capsys):
+    from fsi.sweep_file import load_sweep
+
+    sweep = load_sweep(name)
+    assert len(sweep.cases) == cases and sweep.name == name
+    assert main(["sweeps", name]) == 0 and capsys.readouterr().out == sweep.text
+    if name == "static-by-model":
+        assert sweep.reference == "model=shell,grid_size=38"
 
 
 @pytest.mark.parametrize("text, message", [
@@ -122,6 +134,13 @@ def test_two_workers_one_dataset_equal_to_single_runs_and_a_resume(tmp_path, cap
     assert again["full_volume"].values[1, 0] == ds["full_volume"].values[1, 0]
 
 
+def test_a_scheduler_that_does_not_answer_is_one_line_and_nothing_written(tmp_path, capsys):
+    path, out = _files(tmp_path), tmp_path / "out"
+    assert main(["sweep", str(path), "--out", str(out), "--scheduler", "nonsense:::"]) == 2
+    assert "--scheduler nonsense:::: no Dask scheduler answered" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_per_fill_quantities_and_eqn_6_1_against_the_reference_case(tmp_path, capsys):
     """A static sweep's frames by requested fill: each case's pressure level is its single
     run's, the reference case's shape error is 0, another case's equals `fsi compare`'s Eqn 6.1
@@ -151,19 +170,7 @@ def test_per_fill_quantities_and_eqn_6_1_against_the_reference_case(tmp_path, ca
     assert (out / "plots" / "fill_shape_error.png").is_file()
 
 
-SLOSH_SCENE = """[scene]
-procedure = "slosh"
-[slosh]
-end_time = 1.5
-checkpoint_interval = 100
-[motion]
-kind = "impulse"
-amplitude = [0.5, 0.0, 0.0]
-duration = 0.1
-[fluid]
-cells = 12
-viscosity = 0.001
-"""
+SLOSH_SCENE = SLOSH["limp"]  # a limp slosh run that checkpoints every 100 windows
 
 SLOSH_SWEEP = """[sweep]
 name = "kill"
