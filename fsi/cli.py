@@ -80,7 +80,8 @@ def cmd_sweep(args) -> int:
           f"{len(outcome.skipped)} skipped, {outcome.seconds:.1f} s) and {len(plots)} plots")
     if outcome.failed:
         print(f"fsi: error: {len(outcome.failed)} of {len(sweep.cases)} cases failed: "
-              + "; ".join(f"{n}: {outcome.records[n]['reason']}" for n in outcome.failed),
+              + "; ".join(f"{n}: {outcome.every_record[n]['reason']}"
+                          for n in outcome.failed),
               file=sys.stderr)
         return 1
     if outcome.unconverged:

@@ -134,6 +134,27 @@ def test_two_workers_one_dataset_equal_to_single_runs_and_a_resume(tmp_path, cap
     assert again["full_volume"].values[1, 0] == ds["full_volume"].values[1, 0]
 
 
+def test_a_resumed_sweep_answers_for_the_cases_it_skipped(tmp_path):
+    """A resumed sweep with nothing left to run still fails (or reports unconverged) for the
+    cases that did so before: its outcome counts their records in DIR/cases.jsonl."""
+    from fsi.sweep_run import lay_out, run_sweep
+
+    path, out = _files(tmp_path), tmp_path / "out"
+    sweep = parse_sweep(path.read_text(), str(path), tmp_path)
+    lay_out(sweep, out, replace=False)
+    statuses = [0, 1, 3, 0]
+    for case, status in zip(sweep.cases, statuses):  # every case finished, its result kept
+        (out / "cases" / case.name).mkdir()
+        (out / "cases" / case.name / "result.h5").write_bytes(b"")
+        with open(out / "cases.jsonl", "a") as f:
+            f.write(json.dumps(dict(case=case.name, status=status, reason=f"r{status}",
+                                    seconds=1.0)) + "\n")
+    outcome = run_sweep(sweep, out, resume=True)  # no cluster: nothing to run
+    assert outcome.records == {} and len(outcome.skipped) == 4
+    assert outcome.failed == [sweep.cases[1].name]
+    assert outcome.unconverged == [sweep.cases[2].name]
+
+
 def test_a_scheduler_that_does_not_answer_is_one_line_and_nothing_written(tmp_path, capsys):
     path, out = _files(tmp_path), tmp_path / "out"
     assert main(["sweep", str(path), "--out", str(out), "--scheduler", "nonsense:::"]) == 2
