@@ -24,6 +24,7 @@ Vector-valued keys' coordinates are written as text ('0.5x0x0').
 """
 from __future__ import annotations
 
+import logging
 import math
 from numbers import Number
 from pathlib import Path
@@ -34,6 +35,8 @@ from .compare import eqn_6_1_error
 from .output import read_result, software_version, units_of
 from .sweep_file import Sweep
 from .sweep_run import CASES_DIR, case_records, finished
+
+log = logging.getLogger(__name__)
 
 DATASET_FILE = "sweep.nc"
 PLOTS_DIR = "plots"
@@ -54,6 +57,14 @@ def scalars(attrs: dict) -> dict:
         elif isinstance(value, Number) and not isinstance(value, complex):
             out[key] = float(value)
     return out
+
+
+def key_doc(key: str) -> str:
+    """The scene key reference's text of ``key`` ('section.name'; units in it)."""
+    from .scene import SCHEMA
+
+    section, _, name = key.partition(".")
+    return SCHEMA[section][name].doc
 
 
 def _coordinate(values: list):
@@ -88,12 +99,14 @@ def collect(sweep: Sweep, out) -> "xarray.Dataset":
         data[name] = (dims, values, {"units": units_of(name)})
     data["exit_status"] = (dims, status, {"units": "1"})
     data["failure"] = (dims, failure.astype(str), {"units": ""})
-    coords = {key: ([a.name], _coordinate(values))
+    coords = {key: ([a.name], _coordinate(values), {"description": key_doc(key)})
               for a in sweep.axes for key, values in a.values.items()}
     fills, by_fill = fill_variables(sweep, results)
     if fills is not None:
         scale = {str(r["attrs"].get("fill_scale", "")) for r in results.values()} - {""}
-        coords["fill"] = (["fill"], fills, {"units": "1", "fill_scale": " ".join(sorted(scale))})
+        scale = " ".join(sorted(scale))
+        coords["fill"] = (["fill"], fills, {"units": "1", "fill_scale": scale,
+                                            "description": f"requested fill ({scale} scale)"})
         data.update(by_fill)
     return xr.Dataset(data, coords=coords, attrs=dict(
         sweep=sweep.name, description=sweep.description, base_scene=sweep.scene,
@@ -162,7 +175,8 @@ def read(out) -> "xarray.Dataset":
 
 def plot(dataset, names: list[str], out) -> list[Path]:
     """One PNG per quantity in ``names`` against the sweep's first axis, a line for each
-    combination of the others, in DIR/plots; a name the dataset lacks is skipped."""
+    combination of the others, in DIR/plots; a name the dataset lacks is skipped with a
+    warning."""
     import itertools
 
     import matplotlib
@@ -173,6 +187,9 @@ def plot(dataset, names: list[str], out) -> list[Path]:
     folder = Path(out) / PLOTS_DIR
     folder.mkdir(exist_ok=True)
     written = []
+    for name in (n for n in names if n not in dataset):
+        log.warning("sweep.plot: '%s' is not a quantity of this sweep's dataset; not plotted",
+                    name)
     for name in (n for n in names if n in dataset):
         var = dataset[name]
         x_dim, others = var.dims[0], list(var.dims[1:])
@@ -183,7 +200,7 @@ def plot(dataset, names: list[str], out) -> list[Path]:
             label = ", ".join(_label(dataset, d, i) for d, i in zip(others, combo))
             ax.plot(_axis_values(dataset, x_dim), table[:, column], "o-", label=label or None)
         units = var.attrs.get("units", "")
-        ax.set_xlabel(_label(dataset, x_dim))
+        ax.set_xlabel(_axis_title(dataset, x_dim))
         ax.set_ylabel(f"{name} ({units})" if units not in ("", "1") else name)
         ax.set_title(f"{dataset.attrs.get('sweep', '')}: {name}")
         if others:
@@ -206,6 +223,13 @@ def _axis_values(dataset, dim: str):
         if np.issubdtype(dataset[c].dtype, np.number):
             return dataset[c].values
     return np.arange(dataset.sizes[dim])
+
+
+def _axis_title(dataset, dim: str) -> str:
+    """The coordinates along ``dim`` with what they are: 'slosh.fill: tank fraction ...'."""
+    coords = _coords_of(dataset, dim) or [dim]
+    return " / ".join(f"{c}: {dataset[c].attrs['description']}"
+                      if "description" in dataset[c].attrs else c for c in coords)
 
 
 def _label(dataset, dim: str, index: int | None = None) -> str:
