@@ -199,6 +199,9 @@ def plot(dataset, names: list[str], out) -> list[Path]:
         for column, combo in enumerate(combos):
             label = ", ".join(_label(dataset, d, i) for d, i in zip(others, combo))
             ax.plot(_axis_values(dataset, x_dim), table[:, column], "o-", label=label or None)
+        if not _has_numeric_coordinate(dataset, x_dim):  # categories: name each position
+            ax.set_xticks(range(var.sizes[x_dim]),
+                          [_label(dataset, x_dim, i) for i in range(var.sizes[x_dim])])
         units = var.attrs.get("units", "")
         ax.set_xlabel(_axis_title(dataset, x_dim))
         ax.set_ylabel(f"{name} ({units})" if units not in ("", "1") else name)
@@ -217,19 +220,33 @@ def _coords_of(dataset, dim: str) -> list[str]:
     return [c for c in dataset.coords if dataset[c].dims == (dim,)]
 
 
+def _numeric_coordinates(dataset, dim: str) -> list[str]:
+    return [c for c in _coords_of(dataset, dim) if np.issubdtype(dataset[c].dtype, np.number)]
+
+
+def _has_numeric_coordinate(dataset, dim: str) -> bool:
+    return bool(_numeric_coordinates(dataset, dim))
+
+
 def _axis_values(dataset, dim: str):
     """The first numeric coordinate along ``dim``, else the positions 0, 1, ..."""
-    for c in _coords_of(dataset, dim):
-        if np.issubdtype(dataset[c].dtype, np.number):
-            return dataset[c].values
-    return np.arange(dataset.sizes[dim])
+    numeric = _numeric_coordinates(dataset, dim)
+    return dataset[numeric[0]].values if numeric else np.arange(dataset.sizes[dim])
+
+
+AXIS_TITLE_CHARACTERS = 60
+"""A key's description in an axis title is cut at its first ';' and at this length."""
 
 
 def _axis_title(dataset, dim: str) -> str:
     """The coordinates along ``dim`` with what they are: 'slosh.fill: tank fraction ...'."""
-    coords = _coords_of(dataset, dim) or [dim]
-    return " / ".join(f"{c}: {dataset[c].attrs['description']}"
-                      if "description" in dataset[c].attrs else c for c in coords)
+    def title(c):
+        text = dataset[c].attrs.get("description", "").split(";")[0]
+        if len(text) > AXIS_TITLE_CHARACTERS:
+            text = text[:AXIS_TITLE_CHARACTERS - 3].rstrip() + "..."
+        return f"{c}: {text}" if text else c
+
+    return " / ".join(title(c) for c in _coords_of(dataset, dim) or [dim])
 
 
 def _label(dataset, dim: str, index: int | None = None) -> str:

@@ -110,6 +110,7 @@ def test_two_workers_one_dataset_equal_to_single_runs_and_a_resume(tmp_path, cap
     ds = sweep_data.read(out)
     assert ds["exit_status"].values.tolist() == [[0, 2], [0, 2]]
     assert "membrane.grid_size" in ds.coords and ds["full_volume"].attrs["units"] == "m^3"
+    assert ds["membrane.grid_size"].attrs["description"] == "nodes per grid side (thesis GridSize)"
     assert (out / "plots" / "full_volume.png").is_file()
     for i, n in enumerate((8, 10)):
         name = f"grid_size={n},fills=0.1x0.2"
