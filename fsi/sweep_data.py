@@ -199,7 +199,7 @@ def plot(dataset, names: list[str], out) -> list[Path]:
         for column, combo in enumerate(combos):
             label = ", ".join(_label(dataset, d, i) for d, i in zip(others, combo))
             ax.plot(_axis_values(dataset, x_dim), table[:, column], "o-", label=label or None)
-        if not _has_numeric_coordinate(dataset, x_dim):  # categories: name each position
+        if not _numeric_coordinates(dataset, x_dim):  # categories: name each position
             ax.set_xticks(range(var.sizes[x_dim]),
                           [_label(dataset, x_dim, i) for i in range(var.sizes[x_dim])])
         units = var.attrs.get("units", "")
@@ -222,10 +222,6 @@ def _coords_of(dataset, dim: str) -> list[str]:
 
 def _numeric_coordinates(dataset, dim: str) -> list[str]:
     return [c for c in _coords_of(dataset, dim) if np.issubdtype(dataset[c].dtype, np.number)]
-
-
-def _has_numeric_coordinate(dataset, dim: str) -> bool:
-    return bool(_numeric_coordinates(dataset, dim))
 
 
 def _axis_values(dataset, dim: str):
