@@ -9,12 +9,12 @@ Layout of ``fsi sweep SWEEP --out DIR``::
     DIR/sweep.nc, DIR/plots/    the combined dataset and its plots (:mod:`fsi.sweep_data`)
 
 Cases run on a ``LocalCluster`` sized to the machine (one worker process per core, one
-thread and one case at a time each, the memory available now shared between them) or, with ``--scheduler
-ADDRESS``, on an existing cluster whose workers have this package installed and see DIR.
-A case whose worker dies is rerun by the scheduler on another (``distributed``'s
-allowed-failures, 3 by default); a case that fails is recorded with its reason and the others
-go on. ``--resume`` skips the cases whose result folder exists and reruns the others (from
-their checkpoint when they wrote one).
+thread and one case at a time each, the memory available now shared between them) or, with
+``--scheduler ADDRESS``, on an existing cluster whose workers have this package installed
+and see DIR. A case whose worker dies is rerun by the scheduler on another (``distributed``'s
+allowed-failures, 3 by default); a case that fails is recorded with its reason and the
+others go on. ``--resume`` skips the cases whose result folder exists and reruns the others
+(from their checkpoint when they wrote one).
 """
 from __future__ import annotations
 
