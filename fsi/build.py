@@ -60,7 +60,8 @@ def build(scene) -> Setup:
     procedure = PROCEDURES[scene["scene"]["procedure"]]
     m, c = scene["membrane"], scene["constraints"]
     check_memory(m["grid_size"])
-    material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"])
+    material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"],
+                        m["wrinkling"])
     model = hemisphere_model(m["grid_size"], scene["tank"]["radius"], material, m["support"])
     if model.node_fixed.all():
         raise SceneError(f"scene keys 'membrane.grid_size' = {m['grid_size']} and "
@@ -75,6 +76,10 @@ def build(scene) -> Setup:
     structure = scene["structure"]
     chosen = procedure.structure_model or choose_model(structure["model"], model.grid_size,
                                                        structure["accuracy"])
+    if m["wrinkling"] != "none" and chosen != "xpbd":
+        raise SceneError(f"scene key 'membrane.wrinkling' = '{m['wrinkling']}' needs the xpbd "
+                         f"model, and this scene runs '{chosen}'; allowed: 'none', or "
+                         "structure.model = 'xpbd'")
     setup = Setup(scene, model, liquid, constraints, relaxation_settings(scene, constraints),
                   chosen)
     procedure.check_setup(setup)

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from structure.model import SUPPORTS
 from structure.shell import MEMBRANE_LAWS
+from structure.xpbd.model import WRINKLING
 
 from . import constants
 from . import procedures  # noqa: F401  (fills the registry)
@@ -50,6 +51,10 @@ COMMON: dict[str, Table] = {
                              "Poisson ratio (xpbd and shell models; rubber 0.5)"),
         "support": Key(str, "clamped", *one_of(list(SUPPORTS)),
                        "rim support: two fixed rings (clamped) or one (simply supported)"),
+        "wrinkling": Key(str, "none", *one_of(list(WRINKLING)),
+                         "in-plane law of the xpbd model: 'tension-field' carries no "
+                         "compression (a sheet too coarse to fold wrinkles instead of "
+                         "locking; README, 'The tension-field diaphragm')"),
     }),
     "structure": Table({
         "model": Key(str, "auto", *one_of(["auto", *STRUCTURE_MODELS]),

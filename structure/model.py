@@ -26,13 +26,15 @@ class Material:
     """Membrane material and section.
 
     thickness : m; density : kg/m^3; youngs_modulus : Pa; poisson_ratio : - (used by plate
-    checks only; the thesis particle model has no Poisson effect).
+    checks only; the thesis particle model has no Poisson effect); wrinkling : "none" or
+    "tension-field" (the XPBD membrane carries no compression, :mod:`structure.xpbd`).
     """
 
     thickness: float
     density: float
     youngs_modulus: float
     poisson_ratio: float = 0.5
+    wrinkling: str = "none"
 
     @property
     def flexural_rigidity(self) -> float:

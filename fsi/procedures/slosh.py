@@ -40,6 +40,7 @@ from ..motion import body_acceleration, tank_acceleration
 from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
 from ..slosh_response import contents_response, first_mode
 from .coupled import COUPLING, FLUID, MOTION
+from .coupled_fill import START_TOLERANCE
 from .slosh_limp import LimpWindows  # noqa: F401  (registers "limp", the default, first)
 from .slosh_diaphragm import DiaphragmWindows  # noqa: F401  (registers "diaphragm")
 from .slosh_surfaces import SURFACES, Contents, Start
@@ -104,6 +105,9 @@ SLOSH = Table({
     "constraint_sweeps": Key(int, XPBD_DYNAMIC_SWEEPS, lambda v: 1 <= v <= 1000, "1..1000",
                              "diaphragm: Gauss-Seidel sweeps of the XPBD constraints per "
                              "substep (too few leave the membrane soft, README)"),
+    "start_tolerance": Key(float, START_TOLERANCE, lambda v: 0 < v <= 1e-3, "0 < value <= 1e-3",
+                           "diaphragm: the static start (and its tilted solves) converged when "
+                           "no node moves more than this fraction of its size per substep"),
     "end_time": Key(float, 5.0, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 25, lambda v: v >= 1, ">= 1",
                           "windows between recorded surface frames"),

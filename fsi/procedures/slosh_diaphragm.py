@@ -48,19 +48,23 @@ from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
 from ..lifecycle import Run
 from ..models import hydrostatic_load, statics_substep
 from .coupled import WINDOW_TIME_SCHEMES, coupling_settings, window_substep
-from .coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
+from .coupled_fill import START_MAX_STEPS, static_equilibrium
 from .slosh_surfaces import Contents, SurfaceWindows, register_surface
 
 
 def elastic_energies(model: XpbdModel, node_position: np.ndarray) -> tuple[float, float]:
     """The membrane's stretching and bending energies (J) at ``node_position`` (n, 3) m: the
-    Saint Venant-Kirchhoff plane-stress energy of its triangles and the mid-edge bending
-    energy, the potentials of its XPBD constraints."""
+    Saint Venant-Kirchhoff plane-stress energy of its triangles (the tension field's relaxed
+    energy of the XPBD blocks when ``model.tension_field``) and the mid-edge bending energy,
+    the potentials of its XPBD constraints."""
     mat = model.base.material
     x = np.ascontiguousarray(node_position, dtype=float)
-    stretch, _ = svk_energy_and_gradient(x, model.triangles, model.rest_inverse,
-                                         model.rest_area, mat.thickness, mat.youngs_modulus,
-                                         mat.poisson_ratio)
+    if model.tension_field:
+        stretch = model.membrane_energy(x)
+    else:
+        stretch, _ = svk_energy_and_gradient(x, model.triangles, model.rest_inverse,
+                                             model.rest_area, mat.thickness,
+                                             mat.youngs_modulus, mat.poisson_ratio)
     bend, _ = model.bending.energy_and_gradient(x)
     return float(stretch), float(bend)
 
@@ -112,7 +116,7 @@ def static_start(setup, window: float) -> StaticStart:
     xpbd = XpbdModel.from_membrane(setup.model)
     settings = XpbdSettings(dt=window_substep(setup, window, table["substep_fraction"]),
                             iterations=table["constraint_sweeps"], warm_start=False,
-                            tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
+                            tolerance=table["start_tolerance"], max_steps=START_MAX_STEPS)
     volume = table["fill"] * tank_volume(setup.model.radius)
     # the fold state from a path that does not depend on the window: relaxed at the statics'
     # substep, then settled at the windows' (same sweeps) so that it is at rest under them

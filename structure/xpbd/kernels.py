@@ -79,9 +79,84 @@ def _block(x, inv_mass, nodes, grads, value, compliance, lam, t, inv_dt2, apply_
                 x[n, 2] += w * grads[i, p, 2]
 
 
+@njit(**JIT, inline="always")
+def relax_strain(value, nu):
+    """Tension-field relaxation in place of a triangle's strain (e00, e11, e01) (-), tensor
+    shear e01, for a linear isotropic sheet of Poisson ratio ``nu`` (Pipkin 1986): its
+    principal strains e1 >= e2 and the major direction n1 (n2 across it) give
+
+    * taut, e2 >= -nu e1: unchanged;
+    * wrinkled, e1 > 0 > e2 + nu e1: e1 (n1 n1 - nu n2 n2), uniaxial stress E e1 along n1
+      and none across (the wrinkles take the rest of the contraction);
+    * slack, e1 <= 0: zero.
+
+    The plane-stress energy of the result is the relaxed energy (1/2 E e1^2 per unit volume
+    when wrinkled) and, with the gradients of the unrelaxed strain, its constraint force is
+    the relaxed energy's gradient: the sheet carries no compression."""
+    a, d, b = value[0], value[1], value[2]
+    mean = 0.5 * (a + d)
+    rad = np.sqrt(0.25 * (a - d) * (a - d) + b * b)
+    e1 = mean + rad
+    e2 = mean - rad
+    if e1 <= 0.0:
+        value[0] = 0.0
+        value[1] = 0.0
+        value[2] = 0.0
+    elif e2 < -nu * e1:
+        theta = 0.5 * np.arctan2(2.0 * b, a - d)
+        c = np.cos(theta)
+        s = np.sin(theta)
+        value[0] = e1 * (c * c - nu * s * s)
+        value[1] = e1 * (s * s - nu * c * c)
+        value[2] = e1 * (1.0 + nu) * c * s
+
+
+@njit(**JIT, inline="always")
+def _triangle_strain(x, a, b, c, d, f0, f1, value):
+    """The block's strain (s0 - 1, s1 - 1, cos01 / 2) of the triangle (a, b, c) with rest
+    inverse d (2, 2) into value (3,); f0, f1 (3,) get the deformation gradient's columns.
+    Returns their lengths s0, s1 and the cosine between them."""
+    for r in range(3):
+        e1 = x[b, r] - x[a, r]
+        e2 = x[c, r] - x[a, r]
+        f0[r] = e1 * d[0, 0] + e2 * d[1, 0]
+        f1[r] = e1 * d[0, 1] + e2 * d[1, 1]
+    s0 = np.sqrt(f0[0] * f0[0] + f0[1] * f0[1] + f0[2] * f0[2])
+    s1 = np.sqrt(f1[0] * f1[0] + f1[1] * f1[1] + f1[2] * f1[2])
+    cos01 = (f0[0] * f1[0] + f0[1] * f1[1] + f0[2] * f1[2]) / (s0 * s1)
+    value[0] = s0 - 1.0
+    value[1] = s1 - 1.0
+    value[2] = 0.5 * cos01
+    return s0, s1, cos01
+
+
 @njit(**JIT)
-def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt2, apply_only):
-    """Green-strain blocks of every triangle with a free node (Gauss-Seidel)."""
+def membrane_energy(x, triangles, rest_inverse, compliance, relax, nu):
+    """Potential (J) of the membrane blocks at x (n, 3) m: sum of 1/2 C^T alpha^-1 C over the
+    triangles, C their strain (:func:`relax_strain`-ed when ``relax``)."""
+    value = np.empty(3)
+    f0 = np.empty(3)
+    f1 = np.empty(3)
+    energy = 0.0
+    for t in range(triangles.shape[0]):
+        _triangle_strain(x, triangles[t, 0], triangles[t, 1], triangles[t, 2],
+                         rest_inverse[t], f0, f1, value)
+        if relax:
+            relax_strain(value, nu)
+        k = np.linalg.inv(compliance[t])
+        for i in range(3):
+            for j in range(3):
+                energy += 0.5 * value[i] * k[i, j] * value[j]
+    return energy
+
+
+@njit(**JIT)
+def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt2, apply_only,
+                   relax, nu):
+    """Green-strain blocks of every triangle with a free node (Gauss-Seidel); with ``relax``
+    the strain is the tension field's (:func:`relax_strain`, Poisson ratio ``nu``) and the
+    gradients the unrelaxed strain's (a stiffer chord; the fixed point is the relaxed
+    energy's)."""
     nodes = np.empty((3, 3), dtype=np.int64)
     grads = np.empty((3, 3, 3))
     value = np.empty(3)
@@ -93,17 +168,9 @@ def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt
         if inv_mass[a] == 0.0 and inv_mass[b] == 0.0 and inv_mass[c] == 0.0:
             continue
         d = rest_inverse[t]
-        for r in range(3):
-            e1 = x[b, r] - x[a, r]
-            e2 = x[c, r] - x[a, r]
-            f0[r] = e1 * d[0, 0] + e2 * d[1, 0]
-            f1[r] = e1 * d[0, 1] + e2 * d[1, 1]
-        s0 = np.sqrt(f0[0] * f0[0] + f0[1] * f0[1] + f0[2] * f0[2])
-        s1 = np.sqrt(f1[0] * f1[0] + f1[1] * f1[1] + f1[2] * f1[2])
-        cos01 = (f0[0] * f1[0] + f0[1] * f1[1] + f0[2] * f1[2]) / (s0 * s1)
-        value[0] = s0 - 1.0
-        value[1] = s1 - 1.0
-        value[2] = 0.5 * cos01
+        s0, s1, cos01 = _triangle_strain(x, a, b, c, d, f0, f1, value)
+        if relax:
+            relax_strain(value, nu)
         for i in range(3):
             nodes[i, 0], nodes[i, 1], nodes[i, 2] = b, c, a
         for r in range(3):

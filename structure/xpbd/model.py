@@ -12,6 +12,11 @@ from ..hyperelastic import TriangleMembrane
 from ..load import external_force
 from ..model import MembraneModel, MembraneState
 from ..volume import liquid_volume_gradient
+from .kernels import membrane_energy
+
+WRINKLING = {"none": False, "tension-field": True}
+"""The material's ``wrinkling`` -> whether the XPBD membrane blocks are relaxed by the
+tension field (:func:`.kernels.relax_strain`)."""
 
 
 @dataclass(frozen=True)
@@ -22,7 +27,9 @@ class XpbdModel:
     triangles (m, 3) int64 (the quads split as App. D does); rest_inverse (m, 2, 2) and
     rest_area (m,) m^2 of the reference triangles; membrane_compliance (m, 3, 3) 1/J (alpha of
     the Green-strain block); bending (:class:`MidedgeBending`); bending_compliance (m, 3, 3)
-    1/(N m) (alpha of the angle block, zero rows on edges without an angle).
+    1/(N m) (alpha of the angle block, zero rows on edges without an angle); tension_field:
+    the membrane blocks carry no compression (:func:`.kernels.relax_strain`; the material's
+    ``wrinkling = "tension-field"``).
     """
 
     base: MembraneModel
@@ -32,6 +39,7 @@ class XpbdModel:
     membrane_compliance: np.ndarray
     bending: MidedgeBending
     bending_compliance: np.ndarray
+    tension_field: bool = False
 
     @classmethod
     def from_membrane(cls, base: MembraneModel, bending_boundary: str = "clamped") -> "XpbdModel":
@@ -51,7 +59,16 @@ class XpbdModel:
                                        nu, bending_boundary)
         return cls(base, tri, membrane.rest_inverse, membrane.rest_area,
                    np.ascontiguousarray(np.linalg.inv(stiffness)), bending,
-                   np.ascontiguousarray(np.linalg.pinv(bending.stiffness, hermitian=True)))
+                   np.ascontiguousarray(np.linalg.pinv(bending.stiffness, hermitian=True)),
+                   WRINKLING[mat.wrinkling])
+
+    def membrane_energy(self, node_position: np.ndarray) -> float:
+        """Potential (J) of the membrane blocks at ``node_position`` (n, 3) m (relaxed by the
+        tension field when it is on)."""
+        return float(membrane_energy(np.ascontiguousarray(node_position, dtype=float),
+                                     self.triangles, self.rest_inverse,
+                                     self.membrane_compliance, self.tension_field,
+                                     self.base.material.poisson_ratio))
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,8 @@ def sweep(model: XpbdModel, x, lam: XpbdMultipliers, settings: XpbdSettings, tar
     base = model.base
     inv_dt2 = 1.0 / settings.dt**2
     membrane_sweep(x, base.node_inv_mass, model.triangles, model.rest_inverse,
-                    model.membrane_compliance, lam.membrane, inv_dt2, apply_only)
+                    model.membrane_compliance, lam.membrane, inv_dt2, apply_only,
+                    model.tension_field, base.material.poisson_ratio)
     if settings.bending:
         b = model.bending
         bending_sweep(x, base.node_inv_mass, b.triangles, b.flap, b.ghost, b.active,
