@@ -12,7 +12,7 @@ def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
     s = load_scene("thesis-static")
     assert s["membrane"] == dict(grid_size=26, thickness=0.001778, density=1070.0,
                                  youngs_modulus=8.6e6, poisson_ratio=0.5,
-                                 support="clamped")
+                                 support="clamped", wrinkling="none")
     assert s["structure"]["model"] == "thesis"
     assert s["tank"]["radius"] == 0.20955
     assert s["liquid"]["body_acceleration"] == [0.0, 0.0, -9.81]

@@ -228,7 +228,7 @@ def test_diaphragm_stiffens_the_first_mode():
 
 
 def test_bundled_slosh_scenes_validate():
-    for name in ("slosh-half", "slosh-forced", "slosh-diaphragm"):
+    for name in ("slosh-half", "slosh-forced", "slosh-diaphragm", "slosh-tension-field"):
         build(load_scene(name))
 
 

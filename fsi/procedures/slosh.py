@@ -105,9 +105,10 @@ SLOSH = Table({
     "constraint_sweeps": Key(int, XPBD_DYNAMIC_SWEEPS, lambda v: 1 <= v <= 1000, "1..1000",
                              "diaphragm: Gauss-Seidel sweeps of the XPBD constraints per "
                              "substep (too few leave the membrane soft, README)"),
-    "start_tolerance": Key(float, START_TOLERANCE, lambda v: 0 < v <= 1e-3, "0 < value <= 1e-3",
+    "start_tolerance": Key(float, START_TOLERANCE, lambda v: 0 < v <= 1e-5, "0 < value <= 1e-5",
                            "diaphragm: the static start (and its tilted solves) converged when "
-                           "no node moves more than this fraction of its size per substep"),
+                           "no node moves more than this fraction of its size per substep "
+                           "(looser: tilted solves stop before they move; README)"),
     "end_time": Key(float, 5.0, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 25, lambda v: v >= 1, ">= 1",
                           "windows between recorded surface frames"),
