@@ -4,6 +4,7 @@ of what the coupled slosh run's frequency converges to.
     python benchmarks/slosh_compliance.py [--grid-sizes 10 14 20 26] [--fills 0.5]
                                           [--tilts 0.05 0.01] [--window 0.002] [--no-shell]
                                           [--set membrane.youngs_modulus=8.6e5 ...]
+                                          [--quasi-static SUBSTEPS]
 
 For each membrane grid N and tank fraction, the ``slosh-diaphragm`` scene's static start
 (XPBD, the windows' substeps and sweeps: the fold state a coupled run starts from) is tilted
@@ -14,7 +15,11 @@ f1 <= 1 / (2 pi sqrt(C)), and equals the coupled run's sum m_n / (M omega_n^2).
 Prints one JSON object: per case C at each tilt, the response's asymmetry, convergence, the
 bound (Hz and lambda1 = omega^2 R / g), and the ratio to the free surface's C = |z_c| / g
 (the anchor), and the start's stretching and bending energies. ``--set`` changes one scene
-key (Young's modulus, density, rim support) to see what sets C. Writes ``benchmarks/output/slosh_compliance.png`` (C / C_free against N).
+key (Young's modulus, density, rim support, wrinkling) to see what sets C. ``--quasi-static``
+solves the start and the tilted solves by the warm-started quasi-static XPBD iteration (one
+sweep per substep, at most SUBSTEPS substeps each) instead of the coupled run's damped
+dynamic substeps: the same equilibria where both converge, much cheaper where a slack
+tension-field sheet creeps (its ``converged`` flags say whether the move tolerance was met). Writes ``benchmarks/output/slosh_compliance.png`` (C / C_free against N).
 """
 from __future__ import annotations
 
@@ -29,10 +34,15 @@ import numpy as np
 
 from fsi.build import build
 from fsi.lateral_compliance import first_mode_bound, free_surface_compliance
-from fsi.procedures.slosh_diaphragm import elastic_energies, start_compliance, static_start
+from fsi.models import statics_substep
+from fsi.procedures.coupled_fill import static_equilibrium
+from fsi.procedures.slosh_diaphragm import (StaticStart, elastic_energies, start_compliance,
+                                            static_start)
 from fsi.scene import SceneError, load_scene
 from fluid.container import SphericalTank
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
+from structure.volume import tank_volume
+from structure.xpbd import XpbdModel, XpbdSettings
 
 OUTPUT = Path(__file__).resolve().parent / "output"
 FIGURE = OUTPUT / "slosh_compliance.png"
@@ -79,11 +89,25 @@ def energies(start) -> dict:
                 start_area_ratio=float(area.sum() / xp.rest_area.sum()))
 
 
+def quasi_static_start(setup, substeps: int) -> StaticStart:
+    """The start by warm-started quasi-static XPBD from the manufactured shape (one sweep per
+    substep at the statics' substep, the scene's slosh.start_tolerance, at most
+    ``substeps``); its settings are the tilted solves' too."""
+    xpbd = XpbdModel.from_membrane(setup.model)
+    settings = XpbdSettings(dt=statics_substep(setup), iterations=1, warm_start=True,
+                            tolerance=setup.scene["slosh"]["start_tolerance"],
+                            max_steps=substeps)
+    volume = setup.scene["slosh"]["fill"] * tank_volume(setup.model.radius)
+    state, info = static_equilibrium(setup, xpbd, settings, volume)
+    return StaticStart(xpbd, settings, volume, state, info)
+
+
 def case(grid_size: int, fill: float, tilts, window: float, shell: bool,
-         changes: dict) -> dict:
+         changes: dict, quasi_static: int = 0) -> dict:
     t0 = time.perf_counter()
     setup = _setup(grid_size, fill, changes)
-    start = static_start(setup, window)
+    start = (quasi_static_start(setup, quasi_static) if quasi_static
+             else static_start(setup, window))
     xpbd = [start_compliance(setup, start, t) for t in tilts]
     radius = setup.model.radius
     gravity = -float(setup.liquid.body_acceleration[2])
@@ -93,7 +117,9 @@ def case(grid_size: int, fill: float, tilts, window: float, shell: bool,
     c = xpbd[-1].compliance
     omega = first_mode_bound(c)
     out = dict(grid_size=grid_size, fill=fill, tilts=list(tilts), changes=changes,
+               start_solver="quasi-static" if quasi_static else "damped",
                start_converged=bool(start.info.converged),
+               start_move_ratio=float(start.info.move_ratio),
                pressure_level=float(start.info.pressure_level),
                compliance=[x.compliance for x in xpbd],
                asymmetry=[x.asymmetry for x in xpbd], converged=[x.converged for x in xpbd],
@@ -144,10 +170,15 @@ def main(argv=None) -> None:
     parser.add_argument("--set", type=_change, action="append", default=[],
                         metavar="SECTION.KEY=VALUE",
                         help="change the scene, e.g. membrane.youngs_modulus=8.6e5")
+    parser.add_argument("--quasi-static", type=int, default=0, metavar="SUBSTEPS",
+                        help="start and tilted solves by warm-started quasi-static XPBD, at "
+                             "most SUBSTEPS substeps each (0: the coupled run's damped start)")
     args = parser.parse_args(argv)
+    if args.quasi_static < 0:
+        parser.error(f"--quasi-static must be >= 0 substeps, got {args.quasi_static}")
     logging.basicConfig(level=logging.WARNING)
     changes = dict(args.set)
-    cases = [case(n, f, args.tilts, args.window, not args.no_shell, changes)
+    cases = [case(n, f, args.tilts, args.window, not args.no_shell, changes, args.quasi_static)
              for f in args.fills for n in args.grid_sizes]
     plot(cases)
     print(json.dumps(dict(benchmark="slosh_compliance", figure=str(FIGURE), cases=cases)))
