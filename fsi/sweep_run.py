@@ -231,8 +231,9 @@ def connect(client_class, scheduler: str | None, cluster):
         return client_class(cluster)
     from .run_job import UsageError
 
-    try:
-        return client_class(scheduler, timeout="10s")
+    try:  # not the default client: one that never connected would stay the process's
+        # default, and xarray's writes would then ask it for a lock (sweep_data.write)
+        return client_class(scheduler, timeout="10s", set_as_default=False)
     except (OSError, ValueError, TypeError) as err:
         raise UsageError(f"--scheduler {scheduler}: no Dask scheduler answered there "
                          f"({err})") from None

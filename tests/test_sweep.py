@@ -239,3 +239,14 @@ def test_a_case_whose_worker_is_killed_is_rerun_from_its_checkpoint(tmp_path):
                  "--no-plots"]) == 0
     _assert_equal_arrays(single, out / "cases" / victim, ("frames", "windows", "surface"))
     assert not list((out / "cases").glob(".partial-*"))
+
+
+def test_a_scheduler_that_did_not_answer_leaves_no_default_client(tmp_path):
+    """A Client that never connected stays dask's default scheduler unless it is made with
+    set_as_default=False; a later sweep's dataset write then asked that dead scheduler for
+    xarray's write lock (ValueError: invalid address 'nonsense:::')."""
+    from dask.base import get_scheduler
+
+    path, out = _files(tmp_path), tmp_path / "out"
+    assert main(["sweep", str(path), "--out", str(out), "--scheduler", "nonsense:::"]) == 2
+    assert get_scheduler() is None
