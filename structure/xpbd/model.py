@@ -27,9 +27,9 @@ class XpbdModel:
     triangles (m, 3) int64 (the quads split as App. D does); rest_inverse (m, 2, 2) and
     rest_area (m,) m^2 of the reference triangles; membrane_compliance (m, 3, 3) 1/J (alpha of
     the Green-strain block); bending (:class:`MidedgeBending`); bending_compliance (m, 3, 3)
-    1/(N m) (alpha of the angle block, zero rows on edges without an angle); tension_field:
-    the membrane blocks carry no compression (:func:`.kernels.relax_strain`; the material's
-    ``wrinkling = "tension-field"``).
+    1/(N m) (alpha of the angle block, zero rows on edges without an angle). With the
+    material's ``wrinkling = "tension-field"`` the membrane blocks carry no compression
+    (:func:`.kernels.relax_strain`, :attr:`tension_field`).
     """
 
     base: MembraneModel
@@ -39,7 +39,12 @@ class XpbdModel:
     membrane_compliance: np.ndarray
     bending: MidedgeBending
     bending_compliance: np.ndarray
-    tension_field: bool = False
+
+    @property
+    def tension_field(self) -> bool:
+        """Whether the membrane blocks are relaxed by the tension field (the material's
+        ``wrinkling``)."""
+        return WRINKLING[self.base.material.wrinkling]
 
     @classmethod
     def from_membrane(cls, base: MembraneModel, bending_boundary: str = "clamped") -> "XpbdModel":
@@ -59,8 +64,7 @@ class XpbdModel:
                                        nu, bending_boundary)
         return cls(base, tri, membrane.rest_inverse, membrane.rest_area,
                    np.ascontiguousarray(np.linalg.inv(stiffness)), bending,
-                   np.ascontiguousarray(np.linalg.pinv(bending.stiffness, hermitian=True)),
-                   WRINKLING[mat.wrinkling])
+                   np.ascontiguousarray(np.linalg.pinv(bending.stiffness, hermitian=True)))
 
     def membrane_energy(self, node_position: np.ndarray) -> float:
         """Potential (J) of the membrane blocks at ``node_position`` (n, 3) m (relaxed by the
