@@ -45,6 +45,19 @@ class SphericalTank:
         """(r_max, z_min, z_max) of a grid that holds the tank and ``port_length`` m of stub."""
         return self.radius, -self.radius - port_length, self.radius
 
+    def stub_volume(self, z_bottom: float) -> float:
+        """Volume (m^3) of the port stub outside the sphere, from the sphere down to
+        ``z_bottom`` (m, below the bottom pole): the cylinder r < r_p below
+        z = -sqrt(R^2 - r^2), pi r_p^2 (-z_bottom) - 2 pi / 3 (R^3 - (R^2 - r_p^2)^(3/2))."""
+        if self.port_radius == 0:
+            return 0.0
+        if not z_bottom <= -self.radius:
+            raise ValueError(f"the stub's bottom must lie at or below the bottom pole "
+                             f"(-{self.radius} m), got {z_bottom} m")
+        r2, rp2 = self.radius**2, self.port_radius**2
+        return float(np.pi * rp2 * -z_bottom
+                     - 2 * np.pi / 3 * (self.radius**3 - (r2 - rp2)**1.5))
+
     def volume_below(self, level: float) -> float:
         """Volume (m^3) of the sphere below z = ``level`` (m, clipped to [-R, R]; the stub
         not counted): pi (R^2 z - z^3 / 3 + 2 R^3 / 3)."""

@@ -35,11 +35,17 @@ JIT = dict(cache=True, nogil=True)
 @dataclass(frozen=True)
 class Interface:
     """points (n, 3) m, faces (m, 3) vertex ids of triangles (3-D) or (m, 2) of segments (an
-    axisymmetric meridian in the x-z plane, x = r >= 0), velocities (n, 3) m/s."""
+    axisymmetric meridian in the x-z plane, x = r >= 0), velocities (n, 3) m/s.
+
+    ``liquid_volume`` (m^3): the liquid volume the interface and the container hold on the
+    grid, exactly, where the caller knows it (e.g. a membrane's enclosed volume); the cut cells
+    are then made to hold it (:func:`fluid.geometry.compute_geometry`). None: the cut cells'
+    own volume stands."""
 
     points: np.ndarray
     faces: np.ndarray
     velocities: np.ndarray
+    liquid_volume: float | None = None
 
     def __post_init__(self):
         points = np.ascontiguousarray(self.points, dtype=float)
@@ -60,6 +66,12 @@ class Interface:
         object.__setattr__(self, "points", points)
         object.__setattr__(self, "faces", faces)
         object.__setattr__(self, "velocities", velocities)
+        if self.liquid_volume is not None:
+            volume = float(self.liquid_volume)
+            if not (np.isfinite(volume) and volume > 0):
+                raise ValueError(f"interface liquid volume must be a finite number > 0 m^3, "
+                                 f"got {self.liquid_volume}")
+            object.__setattr__(self, "liquid_volume", volume)
 
     @property
     def is_meridian(self) -> bool:
@@ -72,9 +84,11 @@ class Interface:
         :func:`_pseudo_normals_3d`), computed once per interface."""
         return _pseudo_normals_3d(self.points, self.faces)
 
-    def with_state(self, points: np.ndarray, velocities: np.ndarray) -> "Interface":
-        """Same connectivity, new positions (n, 3) m and velocities (n, 3) m/s."""
-        return Interface(points, self.faces, velocities)
+    def with_state(self, points: np.ndarray, velocities: np.ndarray,
+                   liquid_volume: float | None = None) -> "Interface":
+        """Same connectivity, new positions (n, 3) m and velocities (n, 3) m/s (and the
+        liquid volume they hold, m^3, if known)."""
+        return Interface(points, self.faces, velocities, liquid_volume)
 
     def enclosed_change_rate(self) -> float:
         """d/dt of the volume on the liquid side (m^3/s) implied by the point velocities: the

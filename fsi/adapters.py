@@ -87,11 +87,15 @@ class MembraneSurface:
     where folds touch or cross (:mod:`fluid.interface`); the liquid side contains the port
     stub below the tank. Called with the membrane's node positions and velocities (n, 3), it
     returns the :class:`fluid.interface.Interface` (membrane nodes first, can nodes at rest).
+    ``volume``: where given, a function of the node positions (n, 3) m returning the liquid
+    volume (m^3) the surface holds on the fluid's grid, carried by each interface (the cut
+    cells are matched to it, :mod:`fluid.geometry`).
     """
 
     CAP_REACH = 4.0
 
-    def __init__(self, model: XpbdModel):
+    def __init__(self, model: XpbdModel,
+                 volume: Callable[[np.ndarray], float] | None = None):
         base = model.base
         radius = base.radius
         rest = base.node_rest_position
@@ -124,11 +128,13 @@ class MembraneSurface:
         self.n_points = n
         self.faces = faces
         self.cap_points = points
+        self.volume = volume
 
     def __call__(self, node_position: np.ndarray, node_velocity: np.ndarray) -> Interface:
         points = np.concatenate([node_position, self.cap_points])
         velocities = np.concatenate([node_velocity, np.zeros_like(self.cap_points)])
-        return Interface(points, self.faces, velocities)
+        volume = None if self.volume is None else self.volume(node_position)
+        return Interface(points, self.faces, velocities, volume)
 
     def of(self, state: MembraneState) -> Interface:
         """The surface of a membrane state."""

@@ -49,7 +49,7 @@ UNITS = {
     "dissipation_rate": "W", "dissipated_energy": "J", "tank_acceleration": "m/s^2",
     "force": "N", "moment": "N m", "centre_of_mass": "m", "membrane_kinetic_energy": "J",
     "membrane_elastic_energy": "J", "membrane_liquid_volume": "m^3", "node_mass": "kg",
-    "pressure": "Pa", "radial_position": "m", "tank_radius": "m",
+    "pressure": "Pa", "radial_position": "m", "tank_radius": "m", "fluid_interface_shift": "m",
 }
 
 UNIT_PREFIXES = {"deflection_": "m", "centre_deflection_": "m", "valid_": "1"}

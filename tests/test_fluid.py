@@ -7,9 +7,11 @@ Flow, 3rd ed., Sec. 3-3).
 """
 import numpy as np
 import pytest
+from scipy import integrate
 
 from fluid import cutcell
 from fluid.container import SphericalTank, UprightCylinder
+from fluid.geometry import compute_geometry
 from fluid.grid import axisymmetric_grid
 from fluid.interface import Interface, is_closed, lattice_distance
 from fluid.model import FluidModel, Port
@@ -47,6 +49,61 @@ def test_cut_cell_volume_is_second_order_and_exact_for_planes():
     for zc in (0.0123, 0.0151):
         alpha = cutcell.cell_fractions_2d(r, z, Rr - 0.1234, Zz - zc, True)
         assert (alpha * vol).sum() == pytest.approx(np.pi * 0.1234**2 * (zc + 0.25), rel=1e-12)
+
+
+def _paraboloid(axisymmetric: bool, sag: float):
+    """The bowl z = -sag (1 - rho^2/R^2) in the sphere: (interface, the liquid volume below it
+    2/3 pi R^3 - pi sag R^2 / 2, its area pi R^4 / (6 sag^2) ((1 + 4 sag^2/R^2)^(3/2) - 1))."""
+    itf = bowl_meridian(R, sag, n=401) if axisymmetric else bowl_surface(R, sag, n=160)
+    volume = 2 / 3 * np.pi * R**3 - np.pi * sag * R**2 / 2
+    area = np.pi * R**4 / (6 * sag**2) * ((1 + 4 * sag**2 / R**2) ** 1.5 - 1)
+    return itf, volume, area
+
+
+@pytest.mark.parametrize("axisymmetric", [False, True])
+def test_cut_cells_hold_the_volume_the_interface_states(axisymmetric):
+    """A paraboloid bowl in the sphere at 16 cells: the lattice's own cut cells miss its
+    liquid volume (closed form above) by 0.17 % (axisymmetric) to 1.4 % (3-D); told the volume,
+    the geometry shifts the interface's level set by a few hundredths of a cell and holds it to
+    1e-9, and the shift is a displacement along the normal: dV/dc = -A (the bowl's area)."""
+    itf, volume, area = _paraboloid(axisymmetric, 0.5 * R)
+    grid = tank_grid(R, 16, axisymmetric=axisymmetric)
+    tank = SphericalTank(R)
+    raw = compute_geometry(grid, tank, itf)
+    assert abs(raw.liquid_volume / volume - 1) > 1e-3 and raw.interface_shift == 0.0
+    told = [compute_geometry(grid, tank, itf.with_state(itf.points, itf.velocities, v))
+            for v in (volume, volume * (1 + 1e-3))]
+    assert told[0].liquid_volume == pytest.approx(volume, rel=1e-9)
+    assert told[1].liquid_volume == pytest.approx(volume * (1 + 1e-3), rel=1e-9)
+    assert 0 < abs(told[0].interface_shift) < 0.1 * grid.spacing
+    slope = -(1e-3 * volume) / (told[1].interface_shift - told[0].interface_shift)
+    assert slope == pytest.approx(area, rel=0.05)
+    # the cells' classes and fractions follow the shifted surface
+    assert told[0].cell_fraction.sum() != raw.cell_fraction.sum()
+
+
+def test_a_volume_the_cut_cells_cannot_hold_is_refused():
+    itf, volume, _ = _paraboloid(False, 0.5 * R)
+    with pytest.raises(ValueError, match="cannot hold the interface's liquid volume"):
+        compute_geometry(tank_grid(R, 16, axisymmetric=False), SphericalTank(R),
+                         itf.with_state(itf.points, itf.velocities, 1.5 * volume))
+    with pytest.raises(ValueError, match="liquid volume must be a finite number > 0 m"):
+        itf.with_state(itf.points, itf.velocities, -1.0)
+
+
+def test_port_stub_volume_outside_the_sphere():
+    """The stub r < r_p below the sphere down to z_b: its closed form against quadrature of
+    2 pi r (-sqrt(R^2 - r^2) - z_b) dr, and pi r_p^2 L for a thin stub."""
+    tank = SphericalTank(R, 0.06)
+    z_b = -R - 0.065
+    quad, _ = integrate.quad(lambda r: 2 * np.pi * r * (-np.sqrt(R**2 - r**2) - z_b), 0, 0.06,
+                             epsabs=0, epsrel=1e-13)
+    assert tank.stub_volume(z_b) == pytest.approx(quad, rel=1e-10)
+    assert SphericalTank(R, 1e-4).stub_volume(z_b) == pytest.approx(np.pi * 1e-8 * 0.065,
+                                                                    rel=1e-6)
+    assert SphericalTank(R).stub_volume(z_b) == 0.0
+    with pytest.raises(ValueError, match="bottom pole"):
+        tank.stub_volume(-0.5 * R)
 
 
 def test_interface_distance_signs_meridian_and_surface():

@@ -37,7 +37,7 @@ from structure.model import MembraneState
 from structure.volume import FillScale, liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
-from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
+from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
 from ..checkpoint import CheckpointDue, write as write_checkpoint
 from ..lifecycle import Progress, Run, RunResult, membrane_frame
 from ..models import hydrostatic_load
@@ -45,7 +45,7 @@ from ..motion import body_acceleration
 from ..registry import Procedure, register_procedure
 from ..window_control import END_TOLERANCE, WindowController
 from .coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES, check_port,
-                      coupling_settings, window_substep)
+                      coupling_settings, membrane_surface, window_substep)
 
 log = logging.getLogger(__name__)
 
@@ -128,13 +128,13 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
                     "start, under liquid.body_acceleration, is not at rest in the moving tank")
     grid = tank_grid(setup.model.radius, fl["cells"], axisymmetric=False,
                      stub_length=port["length"])
-    surface = MembraneSurface(model)
     liquid_scheme, membrane_scheme = WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]]
-    fluid = FluidSolver(sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)],
-                                     body, density=liquid.density, viscosity=fl["viscosity"],
-                                     port_radius_cells=port["radius"] / grid.spacing,
-                                     time_scheme=liquid_scheme),
-                        surface.of(start))
+    fluid_model = sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)], body,
+                               density=liquid.density, viscosity=fl["viscosity"],
+                               port_radius_cells=port["radius"] / grid.spacing,
+                               time_scheme=liquid_scheme)
+    surface = membrane_surface(setup, model, fluid_model)
+    fluid = FluidSolver(fluid_model, surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)
     membrane = MembraneParticipant(model, start, settings,
                                    lambda t: start_volume + flow.delivered(t), body,
@@ -189,6 +189,7 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
             seconds_fluid=float(w.seconds.get(parts.fluid_side.name, 0.0)),
             pressure_level=membrane.level,
             liquid_volume=volume, fluid_liquid_volume=fluid.liquid_volume,
+            fluid_interface_shift=fluid.state.geometry.interface_shift,
             port_flow=parts.flow(t), delivered_volume=parts.flow.delivered(t)))
         done = t >= dyn["end_time"] * (1 - END_TOLERANCE)
         now = np.floor(volume / step)
