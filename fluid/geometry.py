@@ -13,10 +13,12 @@ cells with the diaphragm along the upper wall), and that error changes with the 
 discrete liquid volume would drift from what the ports delivered. The shift is the global
 volume correction of level-set methods (a uniform normal displacement of the interface, as
 in Chang, Hou, Merriman & Osher 1996, J. Comput. Phys. 124); it is found by Brent's method
-within half a cell and recorded (``Geometry.interface_shift``).
+within half a cell and recorded (``Geometry.interface_shift``); beyond half a cell it stops
+there, logged.
 """
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -26,6 +28,8 @@ from scipy.optimize import brentq
 from . import cutcell
 from .grid import TankGrid
 from .interface import Interface, lattice_distance
+
+log = logging.getLogger(__name__)
 
 #: band (in cells) around the interface where the exact distance is evaluated
 DISTANCE_BAND_CELLS = 2.5
@@ -164,7 +168,10 @@ def _lattice_cell_fractions(grid: TankGrid, phi_v, itf_v, cells_alone) -> np.nda
 def _volume_shift(grid: TankGrid, phi_v, itf_v, cells_alone, volume: float) -> float:
     """The constant c (m, |c| <= MAX_SHIFT_CELLS h) for which the cut cells of phi_v and
     itf_v + c hold ``volume`` (m^3), c to SHIFT_TOLERANCE_CELLS h (Brent's method; the held
-    volume falls monotonically with c). Raises ValueError when half a cell does not reach it."""
+    volume falls monotonically with c). Where half a cell does not reach it (an interface
+    that is not that volume's boundary on this grid, e.g. a coupling iteration's trial shape
+    through the tank wall) the shift stops there and says so in the log: the geometry's
+    ``liquid_volume`` then shows the miss."""
     weight = grid.cell_volume * grid.volume_factor()
 
     def excess(c: float) -> float:
@@ -174,10 +181,11 @@ def _volume_shift(grid: TankGrid, phi_v, itf_v, cells_alone, volume: float) -> f
     reach = MAX_SHIFT_CELLS * grid.spacing
     low, high = excess(-reach), excess(reach)
     if not low >= 0.0 >= high:
-        raise ValueError(f"the cut cells cannot hold the interface's liquid volume {volume:.6g} "
-                         f"m^3 within {MAX_SHIFT_CELLS} cell of it: they hold "
-                         f"{1 + high:.6g} .. {1 + low:.6g} of it (an interface that is not "
-                         f"the boundary of that volume on this grid?)")
+        log.warning("the cut cells cannot hold the interface's liquid volume %.6g m^3 within "
+                    "%g cell of it (they hold %.6g .. %.6g of it): shifted %g cell", volume,
+                    MAX_SHIFT_CELLS, 1 + high, 1 + low, MAX_SHIFT_CELLS if high > 0 else
+                    -MAX_SHIFT_CELLS)
+        return reach if high > 0.0 else -reach
     if low == 0.0 or high == 0.0:
         return -reach if low == 0.0 else reach
     return float(brentq(excess, -reach, reach, xtol=SHIFT_TOLERANCE_CELLS * grid.spacing,
