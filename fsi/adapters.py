@@ -89,7 +89,8 @@ class MembraneSurface:
     returns the :class:`fluid.interface.Interface` (membrane nodes first, can nodes at rest).
     ``volume``: where given, a function of the node positions (n, 3) m returning the liquid
     volume (m^3) the surface holds on the fluid's grid, carried by each interface (the cut
-    cells are matched to it, :mod:`fluid.geometry`).
+    cells are matched to it, :mod:`fluid.geometry`); a volume that is not > 0 raises
+    :class:`structure.xpbd.XpbdDivergence` (the membrane has left the tank).
     """
 
     CAP_REACH = 4.0
@@ -133,7 +134,10 @@ class MembraneSurface:
     def __call__(self, node_position: np.ndarray, node_velocity: np.ndarray) -> Interface:
         points = np.concatenate([node_position, self.cap_points])
         velocities = np.concatenate([node_velocity, np.zeros_like(self.cap_points)])
-        volume = None if self.volume is None else self.volume(node_position)
+        volume = None if self.volume is None else float(self.volume(node_position))
+        if volume is not None and not (np.isfinite(volume) and volume > 0):
+            raise XpbdDivergence(f"the membrane holds {volume:.4g} m^3 of liquid: it has left "
+                                 f"the tank (diverged)")
         return Interface(points, self.faces, velocities, volume)
 
     def of(self, state: MembraneState) -> Interface:

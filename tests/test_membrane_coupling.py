@@ -24,7 +24,7 @@ from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS
 from structure.load import Load
 from structure.model import Material, MembraneState, hemisphere_model
 from structure.volume import liquid_volume, lower_hemisphere_volume
-from structure.xpbd import XpbdModel, XpbdSettings, solve_equilibrium
+from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 WINDOW = 2e-3  # s
 GRAVITY = (0.0, 0.0, -STANDARD_GRAVITY)
@@ -101,3 +101,17 @@ def test_coupled_fill_follows_the_port_volume(half_full):
     # membrane, 16^3 cells)
     fluid_start = FluidSolver(fluid.model, MembraneSurface(model).of(half_full[2])).liquid_volume
     assert fluid.liquid_volume - fluid_start == pytest.approx(delivered(end), rel=0.15)
+
+
+def test_a_membrane_out_of_the_tank_stops_the_run_by_name():
+    """A surface told to carry its liquid volume raises XpbdDivergence, not a bare error deep
+    in the fluid's geometry, when the membrane holds none (it has left the tank): the coupled
+    procedures stop on it, record why and exit 1."""
+    material = Material(MEMBRANE_THICKNESS, MEMBRANE_DENSITY, MEMBRANE_YOUNGS_MODULUS, 0.5)
+    model = XpbdModel.from_membrane(hemisphere_model(6, TANK_RADIUS, material, "clamped"))
+    rest = model.base.node_rest_position
+    surface = MembraneSurface(model, lambda x: liquid_volume(model.base, x))
+    assert surface(rest, np.zeros_like(rest)).liquid_volume == pytest.approx(
+        liquid_volume(model.base, rest), rel=1e-15)
+    with pytest.raises(XpbdDivergence, match="left the tank"):
+        MembraneSurface(model, lambda x: -1e-4)(rest, np.zeros_like(rest))
