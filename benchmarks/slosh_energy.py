@@ -2,6 +2,7 @@
 
     python benchmarks/slosh_energy.py [--fills 0.5 0.53] [--cells 16] [--end-time 5.0]
                                       [--viscosity 0.05] [--pulse-scale 1.0]
+                                      [--convection upwind|none]
 
 Runs the bundled ``slosh-half`` scene (a 0.5 m/s^2 sin^2 lateral pulse over 0.1 s, then free
 decay, 2 ms windows) at each tank fraction V / (4/3 pi R^3) three ways and prints one JSON
@@ -34,6 +35,7 @@ import numpy as np
 
 from fsi.build import build
 from fsi.procedures import PROCEDURES
+from fsi.procedures.coupled import FLUID_CONVECTIONS
 from fsi.scene import load_scene
 
 #: dynamic viscosity (Pa s) of the viscous case: 50 times water's
@@ -43,11 +45,12 @@ PERIODS = 5
 
 
 def run(fill: float, cells: int, end_time: float, viscosity: float = 0.0,
-        pulse_scale: float = 1.0):
-    """The bundled ``slosh-half`` at tank fraction ``fill`` on ``cells``^3: its result."""
+        pulse_scale: float = 1.0, convection: str = "upwind"):
+    """The bundled ``slosh-half`` at tank fraction ``fill`` on ``cells``^3 with
+    ``fluid.convection``: its result."""
     scene = load_scene("slosh-half")
     scene.values["slosh"].update(fill=fill, end_time=end_time)
-    scene.values["fluid"].update(cells=cells, viscosity=viscosity)
+    scene.values["fluid"].update(cells=cells, viscosity=viscosity, convection=convection)
     motion = scene.values["motion"]
     motion["amplitude"] = [pulse_scale * a for a in motion["amplitude"]]
     return PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
@@ -115,15 +118,18 @@ def main(argv=None) -> None:
     parser.add_argument("--viscosity", type=float, default=VISCOSITY)
     parser.add_argument("--pulse-scale", type=float, default=1.0,
                         help="times the scene's 0.5 m/s^2 pulse")
+    parser.add_argument("--convection", choices=sorted(FLUID_CONVECTIONS), default="upwind",
+                        help="fluid.convection of every run")
     args = parser.parse_args(argv)
     cases = []
-    scale = args.pulse_scale
+    scale, conv = args.pulse_scale, args.convection
     for fill in args.fills:
-        inviscid = run(fill, args.cells, args.end_time, pulse_scale=scale)
+        inviscid = run(fill, args.cells, args.end_time, pulse_scale=scale, convection=conv)
         viscous = run(fill, args.cells, args.end_time, viscosity=args.viscosity,
-                      pulse_scale=scale)
-        half = run(fill, args.cells, args.end_time, pulse_scale=0.5 * scale)
+                      pulse_scale=scale, convection=conv)
+        half = run(fill, args.cells, args.end_time, pulse_scale=0.5 * scale, convection=conv)
         case = dict(fill=fill, cells=args.cells, viscosity=args.viscosity, pulse_scale=scale,
+                    convection=conv,
                     surface_amplitude=_surface_amplitude(inviscid),
                     lambda1=inviscid.attrs.get("lambda1"),
                     wall_seconds=inviscid.attrs["wall_seconds"])

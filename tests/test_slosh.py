@@ -89,6 +89,7 @@ def test_contents_response_of_a_moving_point_mass():
     ("[slosh]\nsurface = 'rubber'", "slosh.surface"),
     ("[slosh]\nanalysis_start = 9.0\nend_time = 1.0", "slosh.analysis_start"),
     ("[liquid]\nbody_acceleration = [1.0, 0.0, -9.81]", "liquid.body_acceleration"),
+    ("[fluid]\nconvection = 'central'", "fluid.convection"),
 ])
 def test_bad_slosh_scene_is_named(text, key):
     with pytest.raises(SceneError, match=key.replace(".", r"\.")):
@@ -150,6 +151,19 @@ def test_short_slosh_run(tmp_path):
     assert a["modal_compliance"] == pytest.approx(a["static_compliance"], rel=0.05)
     assert a["frequency_hz"] < a["first_mode_bound_hz"]
     assert "slosh.png" in {p.name for p in (out / "plots").iterdir()}
+
+
+def test_the_linearised_liquid_keeps_the_limp_slosh_energy(tmp_path):
+    """fluid.convection = "none" (the linear theory's liquid): 12^3 cells, tank fraction 0.53,
+    2 s of inviscid decay after the 0.5 m/s^2 pulse: K + U at the end within 1 % of its value
+    at 0.2 s (measured +0.03 %; with the default upwind convection -3.7 %, its numerical
+    viscosity)."""
+    text = SHORT.format(end=2.0).replace("fill = 0.5", "fill = 0.53") + 'convection = "none"\n'
+    result = PROCEDURES["slosh"](build(parse_scene(text)), lambda fraction, message: None)
+    w = result.groups["windows"]
+    energy = np.asarray(w["liquid_kinetic_energy"]) + np.asarray(w["potential_energy"])
+    start = int(np.searchsorted(w["time"], 0.2))
+    assert energy[-1] / energy[start] == pytest.approx(1.0, abs=0.01)
 
 
 DIAPHRAGM = """

@@ -109,6 +109,9 @@ WINDOW_TIME_SCHEMES = {"euler": ("euler", "substeps"), "bdf2": ("bdf2", "bdf2"),
 """``coupling.time_scheme`` -> (the liquid's :data:`fluid.time_schemes.TIME_SCHEMES` name, the
 membrane's :data:`structure.xpbd.WINDOW_SCHEMES` name): the two halves of one time scheme."""
 
+FLUID_CONVECTIONS = {"upwind": True, "none": False}
+"""fluid.convection: whether the liquid keeps its convective term (first-order upwind)."""
+
 FLUID_VOLUMES = {"cut-cells": False, "membrane": True}
 """fluid.volume: whether the cut cells are matched to the membrane's exact liquid volume."""
 
@@ -117,13 +120,23 @@ FLUID = Table({
                  "cells per axis of the 3-D grid over the tank"),
     "viscosity": Key(float, 1e-3, lambda v: v >= 0, ">= 0 Pa s",
                      "dynamic viscosity of the liquid (Pa s)"),
+    "convection": Key(str, "upwind", *one_of(sorted(FLUID_CONVECTIONS)),
+                      "the liquid's convective term rho (u . grad) u: upwind (implicit, first "
+                      "order: a numerical viscosity of about |u| h / 2) or none (the "
+                      "linearised liquid of small-amplitude slosh, whose closed forms are "
+                      "linear; README, 'Energy and linearity')"),
     "volume": Key(str, "cut-cells", *one_of(sorted(FLUID_VOLUMES)),
                   "liquid volume the cut cells hold: cut-cells (the lattice level set's own, "
                   "off the membrane's by O(h^2), 1 % at 16 cells) or membrane (the interface "
                   "shifted along its normal so that they hold the membrane's exact volume; "
-                  "README, 'Volume bookkeeping')"),
+                  "README, 'Volume bookkeeping'; a limp surface holds its volume itself)"),
 })
 """[fluid]: the immersed-boundary liquid (:mod:`fluid`)."""
+
+
+def fluid_convection(setup) -> bool:
+    """Whether the liquid keeps its convective term (``fluid.convection``)."""
+    return FLUID_CONVECTIONS[setup.scene["fluid"]["convection"]]
 
 
 def membrane_surface(setup, model, fluid_model) -> MembraneSurface:

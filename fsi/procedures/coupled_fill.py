@@ -45,7 +45,7 @@ from ..motion import body_acceleration
 from ..registry import Procedure, register_procedure
 from ..window_control import END_TOLERANCE, WindowController
 from .coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES, check_port,
-                      coupling_settings, membrane_surface, window_substep)
+                      coupling_settings, fluid_convection, membrane_surface, window_substep)
 
 log = logging.getLogger(__name__)
 
@@ -135,7 +135,7 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     fluid_model = sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)], body,
                                density=liquid.density, viscosity=fl["viscosity"],
                                port_radius_cells=port["radius"] / grid.spacing,
-                               time_scheme=liquid_scheme)
+                               time_scheme=liquid_scheme, convection=fluid_convection(setup))
     surface = membrane_surface(setup, model, fluid_model)
     fluid = FluidSolver(fluid_model, surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)

@@ -47,7 +47,8 @@ from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
                                   static_compliance)
 from ..lifecycle import Run
 from ..models import hydrostatic_load, statics_substep
-from .coupled import WINDOW_TIME_SCHEMES, coupling_settings, membrane_surface, window_substep
+from .coupled import (WINDOW_TIME_SCHEMES, coupling_settings, fluid_convection,
+                      membrane_surface, window_substep)
 from .coupled_fill import START_MAX_STEPS, static_equilibrium
 from .slosh_surfaces import Contents, SurfaceWindows, register_surface
 
@@ -139,7 +140,8 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
     model = FluidModel(grid=grid, container=SphericalTank(radius),
                        density=setup.liquid.density, viscosity=scene["fluid"]["viscosity"],
-                       body_acceleration=body, time_scheme=liquid_scheme)
+                       body_acceleration=body, time_scheme=liquid_scheme,
+                       convection=fluid_convection(setup))
     surface = membrane_surface(setup, xpbd, model)
     fluid = FluidSolver(model, surface.of(state))
     held = liquid_volume(setup.model, state.node_position)

@@ -22,6 +22,7 @@ from fluid.tank import tank_grid
 from ..lateral_compliance import Compliance, free_surface_compliance
 from ..limp import HeightSurface, advance_heights
 from ..lifecycle import Run
+from .coupled import fluid_convection
 from .slosh_surfaces import Contents, Start, SurfaceWindows, register_surface
 
 
@@ -49,7 +50,7 @@ class LimpWindows(SurfaceWindows):
         grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
         self.model = FluidModel(grid=grid, container=start.tank, density=setup.liquid.density,
                                 viscosity=scene["fluid"]["viscosity"], body_acceleration=body,
-                                interface_condition="free")
+                                interface_condition="free", convection=fluid_convection(setup))
         self.surface = HeightSurface(grid, bottom=-2.0 * radius)
         self.heights = self.surface.flat(start.level)
         self.fluid = FluidSolver(self.model, self.surface.interface(self.heights))
