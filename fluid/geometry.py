@@ -110,6 +110,7 @@ def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> 
     h = grid.spacing
     phi_v, phi_c, cells_alone, faces_alone = _container_lattices(grid, container)
     wall_c = np.zeros(phi_c.shape + (3,))
+    shift = 0.0
     itf_v = np.full(phi_v.shape, -1.0)
     itf_c = np.full(phi_c.shape, -1e3 * h)
     if interface is not None:
@@ -150,9 +151,7 @@ def compute_geometry(grid: TankGrid, container, interface: Interface | None) -> 
     volume = float((alpha_cells * grid.cell_volume).sum() * grid.volume_factor())
     container_cells, container_faces = _container_fractions(grid, container)
     return Geometry(alpha_cells, beta, phi_cells, wall_cells, volume,
-                    grid.lattice_to_cells(itf_c), container_cells, container_faces,
-                    shift if interface is not None and interface.liquid_volume is not None
-                    else 0.0)
+                    grid.lattice_to_cells(itf_c), container_cells, container_faces, shift)
 
 
 def _lattice_cell_fractions(grid: TankGrid, phi_v, itf_v, cells_alone) -> np.ndarray:

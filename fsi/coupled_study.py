@@ -55,8 +55,9 @@ FAMILIES = {
 
 def run(table: str, key: str, value, end_time: float, held: dict) -> dict:
     """One member: ``diaphragm-fill`` with ``table.key = value`` (and ``held``) to ``end_time``
-    (s): its failure ('' when none), whether its static start converged, level (Pa), liquid centre of mass (3,) m, end node
-    positions (n, 3) m and faces, mean coupling iterations and wall seconds."""
+    (s): its failure ('' when none), whether its static start converged, level (Pa), liquid
+    centre of mass (3,) m, end node positions (n, 3) m and faces, mean coupling iterations
+    and wall seconds."""
     changes = {table: {**held, key: value}}
     changes["dynamics"] = {**changes.get("dynamics", {}), "end_time": end_time,
                            "frame_interval": 100_000}
