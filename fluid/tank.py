@@ -42,6 +42,12 @@ def tank_grid(radius: float, cells: int, axisymmetric: bool,
     return cartesian_grid((-half, -half, -radius - stub), (half, half, radius + h), cells)
 
 
+def port_stub_volume(model: FluidModel) -> float:
+    """Volume (m^3) of the port stub below the sphere on ``model``'s grid, from the sphere down
+    to the grid's bottom boundary (:meth:`fluid.container.SphericalTank.stub_volume`)."""
+    return model.container.stub_volume(model.grid.vertex_axes[-1][0])
+
+
 def sphere_model(radius: float, grid: TankGrid, ports, body_acceleration,
                  density: float = 1000.0, viscosity: float = 1.0e-3,
                  port_radius_cells: float = 3.3, **options) -> FluidModel:

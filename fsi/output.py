@@ -61,7 +61,7 @@ ATTR_UNITS = {
     "peak_moment_y": "N m", "static_compliance": "s^2", "modal_compliance": "s^2",
     "slosh_mass_fraction": "1", "target_tank_fraction": "1", "level": "m",
     "run_seconds": "s", "seconds_per_period": "s", "window": "s", "viscosity": "Pa s",
-    "full_volume": "m^3", "empty_volume": "m^3", "start_volume": "m^3",
+    "full_volume": "m^3", "empty_volume": "m^3", "start_volume": "m^3", "port_stub_volume": "m^3",
     "start_pressure_level": "Pa", "substep": "s", "centre_of_mass_amplitude": "m",
     "first_mode_bound_hz": "Hz",
 }

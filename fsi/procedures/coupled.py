@@ -7,7 +7,7 @@ import numpy as np
 
 from coupling import (ACCELERATIONS, EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES,
                       AccelerationSettings, ConvergenceMeasure, CouplingSettings)
-from fluid.tank import tank_spacing
+from fluid.tank import port_stub_volume, tank_spacing
 from structure.volume import liquid_volume
 
 from ..adapters import POINTS, PRESSURE, MembraneSurface
@@ -146,7 +146,7 @@ def membrane_surface(setup, model, fluid_model) -> MembraneSurface:
     (:func:`structure.volume.liquid_volume`) and the port stub below the sphere."""
     if not FLUID_VOLUMES[setup.scene["fluid"]["volume"]]:
         return MembraneSurface(model)
-    stub = fluid_model.container.stub_volume(fluid_model.grid.vertex_axes[-1][0])
+    stub = port_stub_volume(fluid_model)
     return MembraneSurface(model, lambda x: liquid_volume(setup.model, x) + stub)
 
 COUPLING = Table({

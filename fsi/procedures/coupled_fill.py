@@ -31,7 +31,7 @@ import numpy as np
 from coupling import CouplingError, advance, start as start_loop
 from fluid.model import Port
 from fluid.solver import FluidSolver
-from fluid.tank import sphere_model, tank_grid
+from fluid.tank import port_stub_volume, sphere_model, tank_grid
 from structure.load import Equilibrium
 from structure.model import MembraneState
 from structure.volume import FillScale, liquid_volume, tank_volume
@@ -275,7 +275,8 @@ def fill_attrs(setup, parts: Coupled, run: Run, substep: float, n_windows: int) 
         start_fill=dyn["start_fill"], start_pressure_level=parts.start_info.pressure_level,
         start_converged=parts.start_info.converged, start_volume=parts.start_volume,
         empty_volume=parts.scale.empty_volume, full_volume=parts.scale.full_volume,
-        fill_scale="tank", fluid_cells=setup.scene["fluid"]["cells"])
+        fill_scale="tank", fluid_cells=setup.scene["fluid"]["cells"],
+        port_stub_volume=port_stub_volume(parts.fluid.model))
 
 
 REPORT_ROWS = 40
