@@ -1,25 +1,30 @@
 """What sets the elastic diaphragm's first slosh mode: one property varied at a time.
 
     python benchmarks/slosh_diaphragm.py [--cells 16] [--grid-size 14] [--end-time 3.0]
-                                         [--cases base E/10 ...]
+                                         [--cases base E/10 ...] [--no-limp]
+    python benchmarks/slosh_diaphragm.py --replot A.json [B.json ...]
 
 Runs the bundled ``slosh-diaphragm`` scene (the Table 4.1 diaphragm, a 0.5 m/s^2 sin^2 lateral
 pulse over 0.1 s, then free decay) and its variants: Young's modulus / 10 and / 100
 (stiffness), density x 10 (mass), membrane grid N + 6 (how finely the folds are resolved),
-tank fraction 0.3 and 0.7; by name, the XPBD sweeps per substep (1, 16, 32, 128: the start's fold
+tank fraction 0.3 and 0.7; by name, the tension-field sheet (``membrane.wrinkling``) at 0.5,
+0.3 and 0.7, the XPBD sweeps per substep (1, 16, 32, 128: the start's fold
 state and the membrane's stiffness) and the window (1 and 4 ms); and the limp surface (the
 free-surface limit) at each tank fraction. Prints one JSON object with, per case, ``lambda1`` = omega^2 R / g,
 ``frequency_hz``, ``zeta`` (the lowest mode; every fitted mode's in ``mode_*`` lists: a folded
 diaphragm splits the lateral pair), ``slosh_mass_fraction``, ``slosh_mass_height``, the coupling's
 iterations and unconverged windows and ``seconds_per_period``; the ratio of each lambda1 to
 the limp surface's at the same tank fraction. Writes ``benchmarks/output/slosh_diaphragm.png``
-(lambda1 and zeta by case).
+(lambda1 and zeta by case) and ``slosh_diaphragm_by_fill.png`` (one panel per quantity against
+the tank fraction: the limp surface, the full law's and the tension field's cases);
+``--replot A.json B.json`` draws both from earlier runs' output without running.
 """
 from __future__ import annotations
 
 import argparse
 import json
 import logging
+import sys
 from pathlib import Path
 
 from fsi.build import build
@@ -28,10 +33,24 @@ from fsi.scene import load_scene
 
 OUTPUT = Path(__file__).resolve().parent / "output"
 FIGURE = OUTPUT / "slosh_diaphragm.png"
+BY_FILL = OUTPUT / "slosh_diaphragm_by_fill.png"
+#: the by-fill figure's families: label -> the cases of one membrane law at 0.3, 0.5, 0.7
+FAMILIES = {"full law (N = {n})": ("base", "fill 0.3", "fill 0.7"),
+            "tension field (N = {n})": ("tension field", "tension field, fill 0.3",
+                                        "tension field, fill 0.7")}
+#: the by-fill figure's panels: one quantity each, (key, axis label)
+QUANTITIES = (("frequency_hz", "first mode (Hz)"), ("zeta", "damping ratio $\\zeta$"),
+              ("slosh_mass_fraction", "slosh mass / contents"),
+              ("slosh_mass_height", "slosh mass height (m)"))
 KEYS = ("lambda1", "frequency_hz", "zeta", "zeta_std", "slosh_mass_fraction",
         "slosh_mass_height", "tank_fraction", "mean_coupling_iterations",
         "windows_not_converged", "wall_seconds", "seconds_per_period")
 MODE_KEYS = ("mode_frequency_hz", "mode_zeta", "mode_direction_deg", "mode_slosh_mass")
+
+#: the relaxed (wrinkling) sheet, as the bundled slosh-tension-field scene runs it: the slack
+#: sheet creeps, so its start stops at 1e-5 of a node length per substep
+TENSION_FIELD = [("membrane", "wrinkling", lambda v: "tension-field"),
+                 ("slosh", "start_tolerance", lambda v: 1e-5)]
 
 #: case -> [(section, key, value from the base scene's value)]: each changes one thing
 CASES = {
@@ -42,6 +61,9 @@ CASES = {
     "N+6": [("membrane", "grid_size", lambda v: v + 6)],
     "fill 0.3": [("slosh", "fill", lambda v: 0.3)],
     "fill 0.7": [("slosh", "fill", lambda v: 0.7)],
+    "tension field": TENSION_FIELD,
+    "tension field, fill 0.3": TENSION_FIELD + [("slosh", "fill", lambda v: 0.3)],
+    "tension field, fill 0.7": TENSION_FIELD + [("slosh", "fill", lambda v: 0.7)],
     "sweeps 1": [("slosh", "constraint_sweeps", lambda v: 1)],
     "sweeps 16": [("slosh", "constraint_sweeps", lambda v: 16)],
     "sweeps 32": [("slosh", "constraint_sweeps", lambda v: 32)],
@@ -97,6 +119,38 @@ def plot(cases: list[dict]) -> None:
         ax.grid(alpha=0.3, axis="y")
     fig.savefig(FIGURE, dpi=90, bbox_inches="tight")
     plt.close(fig)
+    plot_by_fill(cases)
+
+
+def plot_by_fill(cases: list[dict]) -> None:
+    """One panel per quantity against the tank fraction: the limp surface (the free-surface
+    limit) and each membrane law's family, where the cases ran."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.ticker
+    lines = {"limp (free surface)": [c for c in cases if c["surface"] == "limp"]}
+    for label, names in FAMILIES.items():
+        members = [c for c in cases if c["surface"] == "diaphragm" and c["case"] in names]
+        if members:
+            lines[label.format(n=members[0]["grid_size"])] = members
+    fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(4 * len(QUANTITIES), 3.4))
+    for ax, (key, label) in zip(axes, QUANTITIES):
+        for name, members in lines.items():
+            points = sorted((c["tank_fraction"] or c["fill"], c[key]) for c in members
+                            if c.get(key) is not None)
+            if points:
+                ax.plot(*zip(*points), "o-", label=name)
+        ax.set_xlabel("tank fraction V / (4/3 $\\pi R^3$)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].set_yscale("log")
+    axes[0].yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+    axes[0].yaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(BY_FILL, dpi=90)
+    plt.close(fig)
 
 
 def main() -> None:
@@ -106,10 +160,20 @@ def main() -> None:
     parser.add_argument("--end-time", type=float, default=3.0, help="simulated seconds")
     parser.add_argument("--cases", nargs="+", default=DEFAULT_CASES, choices=list(CASES))
     parser.add_argument("--no-limp", action="store_true", help="skip the limp references")
+    parser.add_argument("--replot", nargs="+", type=Path, metavar="JSON",
+                        help="draw the figures from earlier runs' printed JSON, run nothing")
     args = parser.parse_args()
+    if args.replot:
+        cases = [c for path in args.replot for c in json.loads(path.read_text())["cases"]]
+        plot(cases)
+        print(json.dumps(dict(cases=cases, figure=str(FIGURE), by_fill=str(BY_FILL)),
+                         indent=1))
+        return
     logging.basicConfig(level=logging.WARNING)
-    cases = [run(c, args.cells, args.grid_size, args.end_time, "diaphragm")
-             for c in args.cases]
+    cases = []
+    for c in args.cases:  # each case on stderr as it ends, so a stopped sweep keeps them
+        cases.append(run(c, args.cells, args.grid_size, args.end_time, "diaphragm"))
+        print(json.dumps(cases[-1]), file=sys.stderr, flush=True)
     if not args.no_limp:
         fills = sorted({c["fill"] for c in cases})
         limp = {f: run({0.3: "fill 0.3", 0.7: "fill 0.7"}.get(f, "base"), args.cells,
@@ -120,7 +184,7 @@ def main() -> None:
                 c["lambda1_over_limp"] = c["lambda1"] / ref
         cases += list(limp.values())
     plot(cases)
-    print(json.dumps(dict(cases=cases, figure=str(FIGURE)), indent=1))
+    print(json.dumps(dict(cases=cases, figure=str(FIGURE), by_fill=str(BY_FILL)), indent=1))
 
 
 if __name__ == "__main__":

@@ -50,7 +50,8 @@ def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre: np.ndarray,
                gravity: float, radius: float, start: float) -> dict:
     """The lateral modes from a free decay after ``start`` (s): the fit of the centre of
     mass's x and y, ``centre`` (n, 2) m (or (n,) for x alone; :func:`fsi.slosh_modes.fit_modes`),
-    the first (lowest) mode's frequency, damping ratio, their standard errors and
+    the first mode's (the lowest slosh mode, :attr:`fsi.slosh_modes.ModeFit.first`) frequency,
+    damping ratio, their standard errors and
     lambda1 = omega^2 R / g, every mode's as ``mode_*`` arrays (ascending frequency, with
     its direction from x in degrees and its x slosh mass), and the spring-mass equivalent
     (NASA SP-106) from the force and moment over the whole record, every fitted mode with
@@ -64,13 +65,14 @@ def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre: np.ndarray,
         return dict(analysis_failure=str(err))
     first = fit.first
     modes = fit.modes
+    index = next(i for i, mode in enumerate(modes) if mode is first)
     out = dict(omega=first.omega, frequency_hz=first.frequency_hz, zeta=first.zeta,
                lambda1=float(first.omega**2 * radius / gravity),
                lambda1_std=float(2 * first.omega * first.omega_std * radius / gravity),
                frequency_hz_std=first.frequency_hz_std, zeta_std=first.zeta_std,
                centre_of_mass_amplitude=float(first.amplitude[0]),
                centre_of_mass_amplitude_std=float(first.amplitude_std[0]),
-               modes=len(modes),
+               modes=len(modes), first_mode_index=index,
                mode_frequency_hz=np.array([m.frequency_hz for m in modes]),
                mode_frequency_hz_std=np.array([m.frequency_hz_std for m in modes]),
                mode_zeta=np.array([m.zeta for m in modes]),
@@ -80,7 +82,7 @@ def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre: np.ndarray,
                analysis_failure="")
     try:
         model = equivalent_model(time, acceleration_x, force_x, moment_y, mass, centre_height,
-                                 gravity, first, others=modes[1:])
+                                 gravity, first, others=[m for m in modes if m is not first])
     except ValueError as err:
         log.warning("no spring-mass equivalent (the decay's frequency and damping are kept): "
                     "%s", err)
@@ -89,6 +91,8 @@ def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre: np.ndarray,
     values = asdict(model)
     others, heights = values.pop("other_slosh_mass"), values.pop("other_slosh_mass_height")
     out.update({k: float(v) for k, v in values.items()})
-    out.update(mode_slosh_mass=np.array([model.slosh_mass, *others]),
-               mode_slosh_mass_height=np.array([model.slosh_mass_height, *heights]))
+    # the mode_* arrays keep ascending frequency
+    out.update(mode_slosh_mass=np.insert(np.asarray(others, float), index, model.slosh_mass),
+               mode_slosh_mass_height=np.insert(np.asarray(heights, float), index,
+                                                model.slosh_mass_height))
     return out

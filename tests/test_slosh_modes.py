@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from fsi.slosh_analysis import equivalent_model, fit_free_decay, pulse_response
-from fsi.slosh_modes import fit_modes
+from fsi.slosh_modes import MODE_MAX_ZETA, fit_modes
 
 T = np.arange(0.15, 3.0, 0.002)  # s, the diaphragm scene's sampling after the pulse
 MODES = ((7.0, 0.038, -39.0, 1.0e-4, 0.4), (8.94, 0.040, 54.5, 1.6e-4, 2.1))
@@ -96,3 +96,23 @@ def test_equivalent_model_gives_each_mode_its_slosh_mass():
             ) == pytest.approx(total * zc, rel=1e-6)
     one = equivalent_model(t, a, force, moment, total, zc, g, first)
     assert one.force_residual > 100 * model.force_residual
+
+
+def test_a_settling_pole_is_not_the_first_mode():
+    """The centre of mass settling to a new offset (a diaphragm's folds after the pulse) fits
+    as a pole damped beyond ``MODE_MAX_ZETA``; the first mode is the lowest slosh mode above
+    it in frequency. Parameters as measured on the Table 4.1 diaphragm with E / 10 (N = 14,
+    half fill): a pole at 1.47 Hz with zeta = 0.75 under modes at 2.18 and 2.94 Hz."""
+    tau = T - T[0]
+    x = np.zeros_like(T)
+    for f, zeta, amplitude in ((1.47, 0.75, 4e-4), (2.18, 0.010, 1e-4), (2.94, 0.020, 0.6e-4)):
+        w = 2 * np.pi * f
+        x += amplitude * np.exp(-zeta * w * tau) * np.cos(w * np.sqrt(1 - zeta**2) * tau)
+    fit = fit_modes(T, np.column_stack([x, 0.3 * x]), start=0.15)
+    assert fit.modes[0].zeta > MODE_MAX_ZETA
+    assert fit.first.frequency_hz == pytest.approx(2.18, rel=1e-3)
+    assert fit.first.zeta == pytest.approx(0.010, rel=0.02)
+    w = 2 * np.pi * 1.47
+    settling = 4e-4 * np.exp(-0.75 * w * tau) * np.cos(w * np.sqrt(1 - 0.75**2) * tau)
+    with pytest.raises(ValueError, match="no slosh mode"):
+        fit_modes(T, np.column_stack([settling, 0.3 * settling]), start=0.15)
