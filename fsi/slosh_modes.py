@@ -104,7 +104,7 @@ def fit_modes(time, signals, start: float | None = None, stop: float | None = No
     duration = tau[-1]
     periods = slosh[0].omega * np.sqrt(1 - slosh[0].zeta**2) * duration / (2 * np.pi)
     if periods < MIN_PERIODS:
-        raise ValueError(f"time: [start, stop] holds {periods:.2f} periods of the lowest mode, "
+        raise ValueError(f"time: [start, stop] holds {periods:.2f} periods of the first mode, "
                          f"need at least {MIN_PERIODS}")
     return ModeFit(tuple(modes), params[2 * m + 2 * m * y.shape[1]:], float(t[0]),
                    float(np.sqrt(np.mean(residual**2))), int(t.size))
