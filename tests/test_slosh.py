@@ -309,3 +309,34 @@ def test_bdf2_window_keeps_the_diaphragms_slosh_energy():
     assert np.mean(bdf2[last]) == pytest.approx(np.mean(bdf2[first]), rel=0.15)
     assert min(runs["euler"].attrs["mode_zeta"]) > 0.02
     assert max(abs(z) for z in runs["bdf2"].attrs["mode_zeta"]) < 0.01
+
+
+def test_a_slosh_run_whose_energy_runs_away_stops_by_name():
+    """The window loop stops a run whose contents hold more kinetic energy than
+    ``DIVERGED_ENERGY_FACTOR`` times what the start and the tank's motion can give them
+    (M |b|max 2R + the start's elastic energy), and names it; below that it goes on."""
+    from fsi.lifecycle import Run
+    from fsi.procedures.slosh_surfaces import DIVERGED_ENERGY_FACTOR, SurfaceWindows
+
+    class Windows(SurfaceWindows):
+        energies = (1.0, 2.0, 1e11, 3.0)  # J per window
+
+        def step(self, run):
+            self.k += 1
+            run.record("windows", dict(time=self.k * self.window, liquid_kinetic_energy=0.5
+                                       * self.energies[self.k - 1],
+                                       membrane_kinetic_energy=0.5 * self.energies[self.k - 1]))
+
+    body = tank_acceleration(dict(kind="impulse", amplitude=[0.5, 0.0, 0.0], duration=0.004))
+    windows = Windows(0.002, 4)
+    windows.set_energy_scale(20.0, 0.2, lambda t: np.array([0.0, 0.0, -9.81]) - body(t),
+                             stored=2.0)
+    peak = np.hypot(9.81, 0.5)
+    assert windows.energy_scale == pytest.approx(20.0 * peak * 0.4 + 2.0, rel=1e-9)
+    run = Run(lambda fraction, message: None, 4)
+    steps = 0
+    while windows.advance(run):
+        steps += 1
+    assert steps == 3 and windows.stopped
+    assert "1e+11 J at t = 0.0060 s" in run.failure and "diverged" in run.failure
+    assert 3.0 < DIVERGED_ENERGY_FACTOR * windows.energy_scale

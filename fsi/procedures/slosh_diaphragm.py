@@ -222,6 +222,8 @@ class DiaphragmWindows(SurfaceWindows):
         self.sample = _sampler(setup, parts)
         self.sample(run, 0.0, coupling_iterations=0, converged=True,
                     residual_pressure=0.0)
+        self.set_energy_scale(parts.contents.mass, setup.model.radius, body,
+                              stored=run.groups["windows"][0]["membrane_elastic_energy"])
         run.record("frames", dict(time=0.0,
                                   node_position=parts.membrane.state.node_position.copy()))
         self.loop = start_loop(parts.membrane, self.fluid_side,

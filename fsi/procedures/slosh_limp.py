@@ -61,6 +61,7 @@ class LimpWindows(SurfaceWindows):
         self.density = setup.liquid.density
         self.gravity = -float(setup.liquid.body_acceleration[2])
         self.centre = start.centre
+        self.set_energy_scale(self.density * self.volume, radius, body)
         self.sample(run, 0.0)
         run.record("frames", dict(time=0.0, surface_height=self.heights.copy()))
 
