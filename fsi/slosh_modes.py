@@ -74,7 +74,7 @@ class ModeFit:
     @property
     def first(self) -> Mode:
         """The lowest-frequency slosh mode: damping ratio under ``MODE_MAX_ZETA``."""
-        return next(mode for mode in self.modes if mode.zeta < MODE_MAX_ZETA)
+        return next(mode for mode in self.modes if _is_slosh(mode))
 
 
 def fit_modes(time, signals, start: float | None = None, stop: float | None = None) -> ModeFit:
@@ -97,7 +97,7 @@ def fit_modes(time, signals, start: float | None = None, stop: float | None = No
     m = len(poles)
     modes = sorted((_mode(params, std, j, m, y.shape[1]) for j in range(m)),
                    key=lambda mode: mode.omega)
-    slosh = [mode for mode in modes if mode.zeta < MODE_MAX_ZETA]
+    slosh = [mode for mode in modes if _is_slosh(mode)]
     if not slosh:
         raise ValueError(f"signals: no slosh mode, every fitted pole is damped at zeta >= "
                          f"{MODE_MAX_ZETA} ({', '.join(f'{m.zeta:.2f}' for m in modes)})")
@@ -108,6 +108,11 @@ def fit_modes(time, signals, start: float | None = None, stop: float | None = No
                          f"need at least {MIN_PERIODS}")
     return ModeFit(tuple(modes), params[2 * m + 2 * m * y.shape[1]:], float(t[0]),
                    float(np.sqrt(np.mean(residual**2))), int(t.size))
+
+
+def _is_slosh(mode: Mode) -> bool:
+    """A slosh mode, not the centre of mass settling: damped at zeta < ``MODE_MAX_ZETA``."""
+    return mode.zeta < MODE_MAX_ZETA
 
 
 def _mode_poles(y: np.ndarray, dt: float) -> list[complex]:
