@@ -9,7 +9,8 @@ pulse over 0.1 s, then free decay) and its variants: Young's modulus / 10 (and /
 (stiffness), density x 10 (mass), membrane grid N + 6 (how finely the folds are resolved),
 tank fraction 0.3 and 0.7, the tension-field sheet (``membrane.wrinkling``) at 0.5, 0.3 and
 0.7; by name, the XPBD sweeps per substep (1, 16, 32, 128: the start's fold
-state and the membrane's stiffness) and the window (1 and 4 ms); and the limp surface (the
+state and the membrane's stiffness), the window (1 and 4 ms) and the pulse's peak
+(``pulse x0.125`` ... ``pulse x64`` times 0.5 m/s^2: linearity); and the limp surface (the
 free-surface limit) at each tank fraction. Prints one JSON object with, per case,
 ``lambda1`` = omega^2 R / g, ``frequency_hz``, ``zeta`` (the first mode, the lowest damped at
 zeta < 0.3; every fitted mode's in ``mode_*`` lists: a folded diaphragm splits the lateral
@@ -19,6 +20,9 @@ the limp surface's at the same tank fraction. Writes ``benchmarks/output/slosh_d
 (lambda1 and zeta by case) and ``slosh_diaphragm_by_fill.png`` (one panel per quantity against
 the tank fraction: the limp surface, the full law's and the tension field's cases);
 ``--replot A.json B.json`` draws both from earlier runs' output without running.
+With two or more pulse cases the JSON has ``linearity``: per step up in the pulse, the first
+mode's amplitude ratio over the pulse ratio and its frequency ratio (anchors 1; linear within
+2 % and 0.5 %, the free-surface limit's criterion), and ``slosh_diaphragm_linearity.png``.
 """
 from __future__ import annotations
 
@@ -28,6 +32,8 @@ import logging
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from fsi.build import build
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
@@ -35,6 +41,7 @@ from fsi.scene import load_scene
 OUTPUT = Path(__file__).resolve().parent / "output"
 FIGURE = OUTPUT / "slosh_diaphragm.png"
 BY_FILL = OUTPUT / "slosh_diaphragm_by_fill.png"
+LINEARITY = OUTPUT / "slosh_diaphragm_linearity.png"
 #: the by-fill figure's families: label -> the cases of one membrane law at 0.3, 0.5, 0.7
 FAMILIES = {"full law (N = {n})": ("base", "fill 0.3", "fill 0.7"),
             "tension field (N = {n})": ("tension field", "tension field, fill 0.3",
@@ -45,7 +52,8 @@ QUANTITIES = (("frequency_hz", "first mode (Hz)"), ("zeta", "damping ratio $\\ze
               ("slosh_mass_height", "its height (m)"))
 KEYS = ("lambda1", "frequency_hz", "zeta", "zeta_std", "slosh_mass_fraction",
         "slosh_mass_height", "tank_fraction", "mean_coupling_iterations",
-        "windows_not_converged", "wall_seconds", "seconds_per_period", "first_mode_index")
+        "windows_not_converged", "wall_seconds", "seconds_per_period", "first_mode_index",
+        "centre_of_mass_amplitude")
 MODE_KEYS = ("mode_frequency_hz", "mode_zeta", "mode_direction_deg", "mode_slosh_mass")
 
 #: the relaxed (wrinkling) sheet, as the bundled slosh-tension-field scene runs it: the slack
@@ -72,6 +80,15 @@ CASES = {
     "window 1 ms": [("slosh", "window", lambda v: 1e-3)],
     "window 4 ms": [("slosh", "window", lambda v: 4e-3)],
 }
+#: the pulse's peak times the scene's 0.5 m/s^2, doubling: where the response stops being linear
+PULSE_SCALES = (0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0)
+CASES.update({f"pulse x{s:g}": [("motion", "amplitude", lambda v, s=s: [s * a for a in v])]
+              for s in PULSE_SCALES})
+CASES.update({f"{name}, window 1 ms": CASES[name] + CASES["window 1 ms"]
+              for name in [f"pulse x{s:g}" for s in PULSE_SCALES]})
+#: linear: doubling the pulse doubles the first mode's amplitude within 2 % and keeps its
+#: frequency within 0.5 % (the free-surface limit's criterion, README 'Energy and linearity')
+LINEAR_AMPLITUDE, LINEAR_FREQUENCY = 0.02, 0.005
 DEFAULT_CASES = ["base", "E/10", "density x10", "N+6", "fill 0.3", "fill 0.7", "tension field",
                  "tension field, fill 0.3", "tension field, fill 0.7"]
 """What a plain run varies; the sweeps and window cases are asked for by name, and E/100,
@@ -91,9 +108,14 @@ def run(case: str, cells: int, grid_size: int, end_time: float, surface: str) ->
                fill=v["slosh"]["fill"], youngs_modulus=v["membrane"]["youngs_modulus"],
                membrane_density=v["membrane"]["density"], window=v["slosh"]["window"],
                constraint_sweeps=v["slosh"]["constraint_sweeps"],
-               start_elastic_energy=float(result.groups["windows"]
-                                          ["membrane_elastic_energy"][0])
-               if surface == "diaphragm" else None)
+               pulse_peak=float(max(abs(a) for a in v["motion"]["amplitude"])))
+    if surface == "diaphragm":
+        windows = result.groups["windows"]
+        elastic = np.asarray(windows["membrane_elastic_energy"])
+        after = np.asarray(windows["time"]) >= v["slosh"]["analysis_start"]
+        # the folds' state: the elastic energy kept after the pulse against the start's
+        out.update(start_elastic_energy=float(elastic[0]), elastic_energy_shift=(
+            float(np.median(elastic[after]) - elastic[0]) if after.any() else None))
     out.update({k: result.attrs.get(k) for k in KEYS})
     for key in MODE_KEYS:  # every fitted lateral mode, ascending frequency
         if key in result.attrs:
@@ -102,6 +124,87 @@ def run(case: str, cells: int, grid_size: int, end_time: float, surface: str) ->
         if result.attrs.get(key):
             out[key] = result.attrs[key]
     return out
+
+
+def linearity(cases: list[dict]) -> list[dict]:
+    """Each step up in the pulse among the ``pulse x`` cases (by peak): the first mode's
+    amplitude ratio over the pulse ratio (anchor 1) and frequency ratio (anchor 1), and
+    whether both are within LINEAR_AMPLITUDE and LINEAR_FREQUENCY of their anchors; a step
+    whose runs did not both end with a first mode is not linear and says why."""
+    pulses = sorted((c for c in cases if c["case"].startswith("pulse x")),
+                    key=lambda c: (c["window"], c["pulse_peak"]))
+    steps = []
+    for small, large in zip(pulses, pulses[1:]):
+        if small["window"] != large["window"]:
+            continue
+        peaks = [small["pulse_peak"], large["pulse_peak"]]
+        missing = next((c for c in (small, large) if not c.get("centre_of_mass_amplitude")),
+                       None)
+        if missing is not None:
+            steps.append(dict(window=large["window"], pulse_peaks=peaks, linear=False, failure=(
+                f"pulse peak {missing['pulse_peak']:g} m/s^2: "
+                f"{missing.get('failure') or missing.get('analysis_failure') or 'no first mode'}")))
+            continue
+        scale = large["pulse_peak"] / small["pulse_peak"]
+        amplitude = large["centre_of_mass_amplitude"] / small["centre_of_mass_amplitude"]
+        frequency = large["frequency_hz"] / small["frequency_hz"]
+        steps.append(dict(window=large["window"], pulse_peaks=peaks,
+                          amplitude_ratio_over_pulse_ratio=amplitude / scale,
+                          frequency_ratio=frequency,
+                          linear=bool(abs(amplitude / scale - 1) <= LINEAR_AMPLITUDE
+                                      and abs(frequency - 1) <= LINEAR_FREQUENCY)))
+    return steps
+
+
+def plot_linearity(cases: list[dict]) -> None:
+    """Per window: the first mode's amplitude per unit pulse and its frequency, both over the
+    window's smallest pulse's, and the elastic energy after the pulse, against the pulse's
+    peak; a dotted line where that window's runs diverged."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    pulses = sorted((c for c in cases if c["case"].startswith("pulse x")),
+                    key=lambda c: c["pulse_peak"])
+    fitted = [c for c in pulses if c.get("centre_of_mass_amplitude")]
+    if len(fitted) < 2:
+        return
+    panels = (("mode 1 amplitude per unit peak,\nover the smallest pulse's", LINEAR_AMPLITUDE),
+              ("mode 1 frequency,\nover the smallest pulse's", LINEAR_FREQUENCY),
+              ("|elastic energy after the pulse,\nover the start's| (median, J)", None))
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3.4))
+    for window in sorted({c["window"] for c in pulses}, reverse=True):
+        series = [c for c in fitted if c["window"] == window]
+        if not series:
+            continue
+        first = series[0]
+        peak = [c["pulse_peak"] for c in series]
+        values = ([(c["centre_of_mass_amplitude"] / c["pulse_peak"])
+                   / (first["centre_of_mass_amplitude"] / first["pulse_peak"]) for c in series],
+                  [c["frequency_hz"] / first["frequency_hz"] for c in series],
+                  [abs(c["elastic_energy_shift"]) for c in series])
+        label = f"{window * 1e3:g} ms windows"
+        lines = [ax.plot(peak, v, "o-", label=label)[0] for ax, v in zip(axes, values)]
+        failed = [c["pulse_peak"] for c in pulses if c["window"] == window
+                  and not c.get("centre_of_mass_amplitude")]
+        if failed:
+            for ax, line in zip(axes, lines):
+                ax.axvline(min(failed), color=line.get_color(), ls=":",
+                           label=f"{label}: diverged from here")
+    for ax, (label, band) in zip(axes, panels):
+        if band is not None:  # the linear criterion, about the smallest pulse's value
+            ax.axhspan(1 - band, 1 + band, color="tab:green", alpha=0.15, label="linear")
+            low, high = ax.get_ylim()
+            ax.set_ylim(min(low, 1 - 2 * band), max(high, 1 + 2 * band))
+        ax.set_xscale("log")
+        ax.set_xlabel("pulse peak (m/s$^2$)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3, which="both")
+    axes[2].set_yscale("log")
+    axes[0].legend(fontsize=7)
+    fig.suptitle("diaphragm at tank fraction 0.5: linearity in the pulse")
+    fig.tight_layout()
+    fig.savefig(LINEARITY, dpi=90)
+    plt.close(fig)
 
 
 def plot(cases: list[dict]) -> None:
@@ -123,6 +226,7 @@ def plot(cases: list[dict]) -> None:
     fig.savefig(FIGURE, dpi=90, bbox_inches="tight")
     plt.close(fig)
     plot_by_fill(cases)
+    plot_linearity(cases)
 
 
 def plot_by_fill(cases: list[dict]) -> None:
@@ -150,10 +254,22 @@ def plot_by_fill(cases: list[dict]) -> None:
     axes[0].set_yscale("log")
     axes[0].yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
     axes[0].yaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
-    axes[0].legend(fontsize=7)
+    if axes[0].get_legend_handles_labels()[0]:
+        axes[0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(BY_FILL, dpi=90)
     plt.close(fig)
+
+
+def _output(cases: list[dict]) -> dict:
+    out = dict(cases=cases, figure=str(FIGURE), by_fill=str(BY_FILL))
+    steps = linearity(cases)
+    if steps:
+        out.update(linearity=steps, linearity_anchors=dict(
+            amplitude_ratio_over_pulse_ratio=1.0, frequency_ratio=1.0),
+            linearity_goals=dict(amplitude=LINEAR_AMPLITUDE, frequency=LINEAR_FREQUENCY),
+            linearity_figure=str(LINEARITY))
+    return out
 
 
 def main() -> None:
@@ -169,8 +285,7 @@ def main() -> None:
     if args.replot:
         cases = [c for path in args.replot for c in json.loads(path.read_text())["cases"]]
         plot(cases)
-        print(json.dumps(dict(cases=cases, figure=str(FIGURE), by_fill=str(BY_FILL)),
-                         indent=1))
+        print(json.dumps(_output(cases), indent=1))
         return
     logging.basicConfig(level=logging.WARNING)
     cases = []
@@ -187,7 +302,7 @@ def main() -> None:
                 c["lambda1_over_limp"] = c["lambda1"] / ref
         cases += list(limp.values())
     plot(cases)
-    print(json.dumps(dict(cases=cases, figure=str(FIGURE), by_fill=str(BY_FILL)), indent=1))
+    print(json.dumps(_output(cases), indent=1))
 
 
 if __name__ == "__main__":
