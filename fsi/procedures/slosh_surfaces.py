@@ -83,13 +83,18 @@ class SurfaceWindows:
         ``DIVERGED_ENERGY_FACTOR`` times :attr:`energy_scale`."""
         if self.stopped or getattr(self, "energy_scale", None) is None:
             return
-        last = run.groups["windows"][-1]
+        windows = run.groups["windows"]
+        last = windows[-1]
         kinetic = last["liquid_kinetic_energy"] + last.get("membrane_kinetic_energy", 0.0)
         if not kinetic <= DIVERGED_ENERGY_FACTOR * self.energy_scale:
+            unconverged = sum(1 for w in windows if not w.get("converged", True))
+            hint = (f" ({unconverged} window(s) accepted unconverged before it: where the "
+                    f"folds snap, shorter windows (slosh.window) can follow them)"
+                    if unconverged else "")
             self.stop(run, f"the contents' kinetic energy {kinetic:.3g} J at t = "
                            f"{last['time']:.4f} s exceeds {DIVERGED_ENERGY_FACTOR:g} times what "
                            f"the start and the tank's motion can give them "
-                           f"({self.energy_scale:.3g} J): the windows diverged")
+                           f"({self.energy_scale:.3g} J): the windows diverged{hint}")
 
     def stop(self, run: Run, reason: str) -> None:
         """The windows end early: ``reason`` is the run's failure."""
