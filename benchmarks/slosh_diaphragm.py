@@ -126,13 +126,18 @@ def run(case: str, cells: int, grid_size: int, end_time: float, surface: str) ->
     return out
 
 
+def _pulse_cases(cases: list[dict]) -> list[dict]:
+    """The ``pulse x`` cases, by window, then by the pulse's peak."""
+    return sorted((c for c in cases if c["case"].startswith("pulse x")),
+                  key=lambda c: (c["window"], c["pulse_peak"]))
+
+
 def linearity(cases: list[dict]) -> list[dict]:
     """Each step up in the pulse among the ``pulse x`` cases (by peak): the first mode's
     amplitude ratio over the pulse ratio (anchor 1) and frequency ratio (anchor 1), and
     whether both are within LINEAR_AMPLITUDE and LINEAR_FREQUENCY of their anchors; a step
     whose runs did not both end with a first mode is not linear and says why."""
-    pulses = sorted((c for c in cases if c["case"].startswith("pulse x")),
-                    key=lambda c: (c["window"], c["pulse_peak"]))
+    pulses = _pulse_cases(cases)
     steps = []
     for small, large in zip(pulses, pulses[1:]):
         if small["window"] != large["window"]:
@@ -163,8 +168,7 @@ def plot_linearity(cases: list[dict]) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    pulses = sorted((c for c in cases if c["case"].startswith("pulse x")),
-                    key=lambda c: c["pulse_peak"])
+    pulses = _pulse_cases(cases)
     fitted = [c for c in pulses if c.get("centre_of_mass_amplitude")]
     if len(fitted) < 2:
         return

@@ -81,7 +81,7 @@ class SurfaceWindows:
     def _check_energy(self, run: Run) -> None:
         """Stop the run when the last window's kinetic energy (liquid and membrane) exceeds
         ``DIVERGED_ENERGY_FACTOR`` times :attr:`energy_scale`."""
-        if self.stopped or getattr(self, "energy_scale", None) is None:
+        if self.stopped or self.energy_scale is None:
             return
         windows = run.groups["windows"]
         last = windows[-1]
