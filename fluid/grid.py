@@ -151,6 +151,26 @@ class TankGrid:
         self.cell_centre = centres
         self.face_centre = fc
 
+    @cached_property
+    def lattice_cell(self) -> np.ndarray:
+        """(prod(shape),) the FiPy cell at each C-order lattice position (the inverse of
+        :attr:`cell_lattice`)."""
+        out = np.full(int(np.prod(self.shape)), -1, dtype=np.int64)
+        out[self.cell_lattice] = np.arange(len(self.cell_lattice))
+        return out
+
+    def cell_of(self, points: np.ndarray) -> np.ndarray:
+        """The cell (n,) holding each of ``points`` (n, 3) m, -1 outside the grid; on an
+        axisymmetric grid a point (x, y, z) is taken at (hypot(x, y), z)."""
+        points = np.asarray(points, dtype=float)
+        coords = np.stack([np.hypot(points[:, 0], points[:, 1]), points[:, 2]], axis=1) \
+            if self.axisymmetric else points
+        idx = np.floor((coords - np.asarray(self.lower)) / self.spacing).astype(np.int64)
+        inside = np.all((idx >= 0) & (idx < np.asarray(self.shape)), axis=1)
+        out = np.full(len(points), -1, dtype=np.int64)
+        out[inside] = self.lattice_cell[np.ravel_multi_index(tuple(idx[inside].T), self.shape)]
+        return out
+
     def lattice_to_cells(self, values: np.ndarray) -> np.ndarray:
         """(shape) lattice cell array -> (n_cells,) in FiPy order."""
         return np.asarray(values).reshape(-1)[self.cell_lattice]

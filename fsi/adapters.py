@@ -23,6 +23,8 @@ from structure.model import MembraneState
 from structure.xpbd import WINDOW_SCHEMES, XpbdDivergence, XpbdModel, XpbdSettings, \
     quasi_static_step
 
+from .pressure_maps import node_fit
+
 POINTS = "interface_points"
 VELOCITIES = "interface_velocities"
 PRESSURE = "interface_pressure"
@@ -37,25 +39,30 @@ class FluidParticipant:
     returning it (the pressure level of an enclosed liquid with flow ports only, see
     :mod:`fluid.model`). ``surface``: how the partner's points and velocities become the
     fluid's interface (:class:`MembraneSurface`; default: the solver's interface moved to
-    them); pressure is returned at the partner's points only."""
+    them); pressure is returned at the partner's points only, by ``pressure_map``
+    (``map(solver, surface, level) -> (n,) Pa``, :data:`fsi.pressure_maps.PRESSURE_MAPS`;
+    default: the fit at each node)."""
 
     name = "fluid"
     write_fields = (PRESSURE,)
 
     def __init__(self, solver: FluidSolver, level: float | Callable[[float], float] = 0.0,
-                 surface: "MembraneSurface | None" = None):
+                 surface: "MembraneSurface | None" = None,
+                 pressure_map: Callable | None = None):
         if solver.interface is None:
             raise ValueError("a coupled fluid needs an interface")
         self.solver = solver
         self.level = level
         self.surface = surface
+        self.pressure_map = pressure_map if pressure_map is not None else node_fit
 
     def _level(self, time: float) -> float:
         return float(self.level(time)) if callable(self.level) else float(self.level)
 
     def _pressure(self, time: float) -> np.ndarray:
-        p = self.solver.interface_pressure(self._level(time))
-        return p[:self.surface.n_points] if self.surface is not None else p
+        if self.surface is None:
+            return self.solver.interface_pressure(self._level(time))
+        return self.pressure_map(self.solver, self.surface, self._level(time))
 
     def initial_data(self) -> dict:
         return {PRESSURE: self._pressure(self.solver.state.time)}

@@ -13,6 +13,7 @@ from structure.volume import liquid_volume
 from ..adapters import POINTS, PRESSURE, MembraneSurface
 from ..limits import courant_time_step_limit
 from ..models import XPBD_COURANT_FRACTION
+from ..pressure_maps import PRESSURE_MAPS
 from ..motion import MOTIONS
 from ..registry import Key, SceneError, Table, is_vec3, one_of, positive, short_number
 
@@ -130,6 +131,13 @@ FLUID = Table({
                   "off the membrane's by O(h^2), 1 % at 16 cells) or membrane (the interface "
                   "shifted along its normal so that they hold the membrane's exact volume; "
                   "README, 'Volume bookkeeping'; a limp surface holds its volume itself)"),
+    "pressure_map": Key(str, "node-fit", *one_of(sorted(PRESSURE_MAPS)),
+                        "how the cells' pressure reaches the membrane's nodes: node-fit (a "
+                        "least-squares plane through the liquid cells around each node), "
+                        "surface-mean (that plane's mean over the sheet around each node, hat "
+                        "weights) or cell-mean (the same mean of each cut cell's own "
+                        "pressure, the work of the cut cells' volume change; README, 'Slosh "
+                        "with the diaphragm')"),
 })
 """[fluid]: the immersed-boundary liquid (:mod:`fluid`)."""
 
@@ -137,6 +145,11 @@ FLUID = Table({
 def fluid_convection(setup) -> bool:
     """Whether the liquid keeps its convective term (``fluid.convection``)."""
     return FLUID_CONVECTIONS[setup.scene["fluid"]["convection"]]
+
+
+def fluid_pressure_map(setup):
+    """The ``fluid.pressure_map`` function (:data:`fsi.pressure_maps.PRESSURE_MAPS`)."""
+    return PRESSURE_MAPS[setup.scene["fluid"]["pressure_map"]]
 
 
 def membrane_surface(setup, model, fluid_model) -> MembraneSurface:

@@ -45,7 +45,8 @@ from ..motion import body_acceleration
 from ..registry import Procedure, register_procedure
 from ..window_control import END_TOLERANCE, WindowController
 from .coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES, check_port,
-                      coupling_settings, fluid_convection, membrane_surface, window_substep)
+                      coupling_settings, fluid_convection, fluid_pressure_map, membrane_surface,
+                      window_substep)
 
 log = logging.getLogger(__name__)
 
@@ -145,7 +146,8 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
                                    liquid_density=liquid.density
                                    if membrane_scheme == "quasi-static" else None)
     return Coupled(FillScale.tank(setup.model.radius), flow, info, start_volume, fluid,
-                   membrane, FluidParticipant(fluid, surface=surface))
+                   membrane, FluidParticipant(fluid, surface=surface,
+                                              pressure_map=fluid_pressure_map(setup)))
 
 
 def frame(setup, parts: Coupled, state, pressure, level, t, seconds, converged) -> dict:

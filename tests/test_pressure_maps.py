@@ -1,0 +1,158 @@
+"""The maps that carry the liquid's cell pressure to the membrane's nodes (fsi.pressure_maps).
+
+Oracles: the subdivision rule's closed-form moments (int over a triangle of lambda_1^2 dA =
+A / 6, from int lambda1^a lambda2^b lambda3^c dA = 2 A a! b! c! / (a + b + c + 2)!), and a
+linear pressure field set on the cells, which the fit reproduces exactly wherever it is
+evaluated, and the cells' own values reproduce to within half a cell's diagonal times its
+gradient.
+"""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from fluid.solver import FluidSolver
+from fluid.tank import sphere_model, tank_grid
+from fsi.adapters import FluidParticipant, MembraneSurface
+from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
+                           STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
+from fsi.pressure_maps import (PRESSURE_MAPS, QUADRATURE_LEVELS, membrane_quadrature,
+                               subdivision_barycentres)
+from structure.model import Material, MembraneState, hemisphere_model
+from structure.xpbd import XpbdModel
+
+GRAVITY = np.array([0.0, 0.0, -STANDARD_GRAVITY])
+GRADIENT = np.array([120.0, -40.0, 75.0])  # Pa/m, the reduced pressure's set on the cells
+OFFSET, LEVEL = 35.0, 250.0  # Pa
+
+
+@pytest.mark.parametrize("levels", [1, 2, 3, 5])
+def test_the_subdivision_rule_is_a_partition_with_the_triangles_centroid(levels):
+    bary = subdivision_barycentres(levels)
+    assert bary.shape == (levels * levels, 3)
+    assert np.all(bary > 0) and np.allclose(bary.sum(axis=1), 1.0)
+    # each sub-triangle's centroid: the rule integrates every linear function exactly
+    assert np.allclose(bary.mean(axis=0), 1.0 / 3.0, atol=1e-15)
+
+
+def test_the_subdivision_rule_converges_at_second_order_on_a_quadratic():
+    exact = 1.0 / 6.0  # int lambda_1^2 dA over a triangle of unit area
+    errors = [abs(np.mean(subdivision_barycentres(k)[:, 0] ** 2) - exact) for k in (3, 6, 12)]
+    assert errors[0] > 0
+    assert errors[0] / errors[1] == pytest.approx(4.0, rel=1e-9)
+    assert errors[1] / errors[2] == pytest.approx(4.0, rel=1e-9)
+
+
+def test_the_quadrature_weights_split_each_triangles_area_among_its_corners():
+    points = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 1.0]])
+    triangles = np.array([[0, 1, 2], [0, 1, 3]])
+    quad, weight = membrane_quadrature(points, triangles, QUADRATURE_LEVELS)
+    assert quad.shape == (2 * QUADRATURE_LEVELS ** 2, 3)
+    # each corner carries a third of the triangle's area (int N_v dA = A / 3)
+    assert np.allclose(weight.sum(axis=1), [[1.0] * 3, [1.0 / 3.0] * 3])  # areas 3 and 1 m^2
+    assert np.all(quad[: QUADRATURE_LEVELS ** 2, 2] == 0.0)  # first triangle in z = 0
+
+
+@pytest.fixture(scope="module")
+def linear_field():
+    """(fluid solver with the reduced pressure OFFSET + GRADIENT . x_c on its cells, the
+    membrane surface, its triangles, the free nodes away from the rim): the rest hemisphere
+    flattened to a bowl a third as deep, so that the liquid under it spans the cells."""
+    material = Material(MEMBRANE_THICKNESS, MEMBRANE_DENSITY, MEMBRANE_YOUNGS_MODULUS, 0.5)
+    base = hemisphere_model(14, TANK_RADIUS, material, "clamped")
+    model = XpbdModel.from_membrane(base)
+    surface = MembraneSurface(model)
+    grid = tank_grid(TANK_RADIUS, 16, axisymmetric=False)
+    solver = FluidSolver(sphere_model(TANK_RADIUS, grid, [], density=WATER_DENSITY,
+                                      body_acceleration=GRAVITY),
+                         surface.of(MembraneState(base.node_rest_position * [1.0, 1.0, 0.3])))
+    solver.state = replace(solver.state,
+                           pressure=OFFSET + grid.cell_centre @ GRADIENT)
+    triangles = surface.faces[np.all(surface.faces < surface.n_points, axis=1)]
+    assert len(triangles) == len(model.triangles)
+    x = solver.interface.points[:surface.n_points]
+    # where the fit has liquid on every side: the clamped rings on the wall have not
+    inner = np.hypot(x[:, 0], x[:, 1]) < TANK_RADIUS - 1.5 * grid.spacing
+    return solver, surface, triangles, inner
+
+
+def _field(x):
+    """The total pressure (Pa) at points x (n, 3) m of the linear field."""
+    return OFFSET + x @ GRADIENT + WATER_DENSITY * x @ GRAVITY + LEVEL
+
+
+def _hat_mean(surface, triangles, weight, values):
+    n = surface.n_points
+    values = values.reshape(weight.shape[:2])
+    num, den = np.zeros(n), np.zeros(n)
+    for v in range(3):
+        np.add.at(num, triangles[:, v], np.sum(weight[:, :, v] * values, axis=1))
+        np.add.at(den, triangles[:, v], np.sum(weight[:, :, v], axis=1))
+    return num / den
+
+
+def test_node_fit_reproduces_a_linear_pressure_at_the_nodes(linear_field):
+    solver, surface, _, inner = linear_field
+    p = PRESSURE_MAPS["node-fit"](solver, surface, LEVEL)
+    x = solver.interface.points[:surface.n_points]
+    assert p.shape == (surface.n_points,)
+    assert inner.sum() > 40
+    assert np.allclose(p[inner], _field(x[inner]), rtol=0, atol=1e-9 * np.abs(_field(x)).max())
+
+
+def test_surface_mean_is_the_hat_weighted_mean_of_the_field(linear_field):
+    solver, surface, triangles, inner = linear_field
+    quad, weight = membrane_quadrature(solver.interface.points, triangles, QUADRATURE_LEVELS)
+    expected = _hat_mean(surface, triangles, weight, _field(quad))
+    p = PRESSURE_MAPS["surface-mean"](solver, surface, LEVEL)
+    assert np.allclose(p[inner], expected[inner], rtol=0, atol=1e-9 * np.abs(expected).max())
+    # the hat-weighted mean of a linear field is the field at the patch's weighted centre
+    centre = np.stack([_hat_mean(surface, triangles, weight, quad[:, a]) for a in range(3)], 1)
+    assert np.allclose(p[inner], _field(centre[inner]), rtol=0,
+                       atol=1e-9 * np.abs(expected).max())
+    x = solver.interface.points[:surface.n_points]
+    assert np.abs(p - _field(x))[inner].max() > 1.0  # Pa: not the node's own value
+
+
+def test_cell_mean_takes_each_points_own_cell(linear_field):
+    solver, surface, triangles, inner = linear_field
+    grid = solver.model.grid
+    quad, weight = membrane_quadrature(solver.interface.points, triangles, QUADRATURE_LEVELS)
+    cell = grid.cell_of(quad)
+    assert np.all(cell >= 0)
+    # the cell really holds the point
+    assert np.all(np.abs(quad - grid.cell_centre[cell]) <= 0.5 * grid.spacing * (1 + 1e-12))
+    wet = solver.state.geometry.cell_fraction[cell] > 0
+    assert wet.mean() > 0.9
+    own = OFFSET + grid.cell_centre[cell] @ GRADIENT + WATER_DENSITY * quad @ GRAVITY + LEVEL
+    values = np.where(wet, own, solver.pressure_at(quad, LEVEL))
+    expected = _hat_mean(surface, triangles, weight, values)
+    p = PRESSURE_MAPS["cell-mean"](solver, surface, LEVEL)
+    assert np.allclose(p, expected, rtol=0, atol=1e-9 * np.abs(expected).max())
+    # piecewise constant over the cells: off the smooth mean by at most half a diagonal
+    smooth = PRESSURE_MAPS["surface-mean"](solver, surface, LEVEL)
+    bound = np.linalg.norm(GRADIENT) * 0.5 * np.sqrt(3) * grid.spacing
+    assert 0 < np.abs(p - smooth)[inner].max() <= bound
+
+
+def test_the_fluid_participant_sends_what_its_map_gives(linear_field):
+    solver, surface, _, inner = linear_field
+    for name, pressure_map in PRESSURE_MAPS.items():
+        side = FluidParticipant(solver, level=LEVEL, surface=surface, pressure_map=pressure_map)
+        sent = side.initial_data()["interface_pressure"]
+        assert np.array_equal(sent, pressure_map(solver, surface, LEVEL)), name
+    default = FluidParticipant(solver, level=LEVEL, surface=surface)
+    assert np.array_equal(default.initial_data()["interface_pressure"],
+                          PRESSURE_MAPS["node-fit"](solver, surface, LEVEL))
+
+
+def test_cell_of_finds_points_and_refuses_the_outside():
+    grid = tank_grid(TANK_RADIUS, 8, axisymmetric=False)
+    centres = grid.cell_centre
+    assert np.array_equal(grid.cell_of(centres), np.arange(grid.n_cells))
+    outside = np.asarray(grid.lower) - grid.spacing
+    assert grid.cell_of(outside[None, :])[0] == -1
+    axi = tank_grid(TANK_RADIUS, 8, axisymmetric=True)
+    r, z = axi.cell_centre[5]
+    point = np.array([[r / np.sqrt(2), r / np.sqrt(2), z]])
+    assert grid.n_cells > axi.n_cells and axi.cell_of(point)[0] == 5
