@@ -52,6 +52,10 @@ class Port:
         return float(_as_function(self.value)(time))
 
 
+FACE_MEMORIES = ("ring", "every-face")
+"""The moving-wall step's faces that keep their history (:attr:`FluidModel.face_memory`)."""
+
+
 @dataclass(frozen=True)
 class FluidModel:
     """Incompressible laminar liquid on an immersed-boundary grid.
@@ -74,7 +78,13 @@ class FluidModel:
     the two give the same matrices, see :mod:`fluid.assembly`);
     time_scheme: the moving-wall step's time derivative, a name in
     :data:`fluid.time_schemes.TIME_SCHEMES` ('euler': backward Euler; 'bdf2': second-order
-    backward differences; the free surface's step has its own, :mod:`fluid.free_surface`).
+    backward differences; the free surface's step has its own, :mod:`fluid.free_surface`);
+    face_memory: which faces of the moving-wall step keep their own velocity's history
+    (Choi 1999's memory term), a name in :data:`FACE_MEMORIES`: 'ring' (the wetted faces
+    between two wall-centred cells only; every other face re-interpolated from the cells each
+    step, Rhie-Chow) or 'every-face' (every inner face wetted before and after the step; see
+    :mod:`fluid.projection`). The free surface's step keeps every face's history whatever
+    this says.
     """
 
     grid: TankGrid
@@ -90,8 +100,12 @@ class FluidModel:
     assembly: str = "direct"
     interface_condition: str = "wall"
     time_scheme: str = "euler"
+    face_memory: str = "ring"
 
     def __post_init__(self):
+        if self.face_memory not in FACE_MEMORIES:
+            raise ValueError(f"face_memory must be one of {FACE_MEMORIES}, got "
+                             f"{self.face_memory!r}")
         if not self.density > 0:
             raise ValueError(f"density must be > 0 kg/m^3, got {self.density}")
         if not self.viscosity >= 0:

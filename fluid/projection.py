@@ -414,6 +414,25 @@ def ring_drag_rate(model: FluidModel, ring_fraction: np.ndarray) -> np.ndarray:
     return model.viscosity / (model.density * layer**2)
 
 
+def _memory_faces(model: FluidModel, state: FluidState, geometry: Geometry) -> np.ndarray:
+    """(n_faces,) bool: the faces besides the wall's ring that keep their own history in the
+    moving-wall step: with ``face_memory = "every-face"`` every inner face wetted at the
+    step's start and end (none with ``"ring"``, and none for the free surface's step, which
+    keeps its own, :mod:`fluid.free_surface`).
+
+    Why: Rhie-Chow's face velocity, re-interpolated from the cells each step, differs from
+    the face's own by dt/rho times the difference of the interpolated cell gradient and the
+    face gradient of the pressure, and that difference is dissipated: an inviscid slosh mode
+    whose pressure bends sharply at the cut cells (the diaphragm's) is damped at a zeta that
+    falls only with the step (README, 'Slosh with the diaphragm'). A face that keeps its
+    history instead evolves as a staggered grid's, u_f^{n+1} = u_f^n - dt/rho grad_f p^{n+1}
+    without viscosity and convection (Choi 1999; the free surface's step does the same)."""
+    if model.face_memory == "ring" or model.interface_condition != "wall":
+        return np.zeros(model.grid.n_faces, dtype=bool)
+    n_cell = model.grid.face_cells[1]
+    return (n_cell >= 0) & (geometry.face_fraction > 0) & (state.geometry.face_fraction > 0)
+
+
 def _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old, grad_f_old, u_flow,
                     dt):
     """Step 2: Rhie-Chow face velocities u*_f (n_faces,) m/s along FiPy's normals."""
@@ -430,8 +449,9 @@ def _face_predictor(model, ops, state, geometry, wall, u_star, grad_c_old, grad_
     # every step and the liquid column behaves as if an O(h) heavier.
     p_cell, n_cell = g.face_cells
     ring = wall_ring(model, geometry) & (state.geometry.face_fraction > 0)
+    keep = _memory_faces(model, state, geometry) | ring
     old_cells = np.where(fluid[:, None], state.cell_velocity, wall)
-    u_face[ring] += (state.face_velocity - interpolate_to_faces(model, old_cells, fluid))[ring]
+    u_face[keep] += (state.face_velocity - interpolate_to_faces(model, old_cells, fluid))[keep]
     if model.viscosity > 0 and ring.any():
         u_wall = interpolate_to_faces(model, wall, fluid)[ring]
         u_face[ring] = u_wall + (u_face[ring] - u_wall) / \

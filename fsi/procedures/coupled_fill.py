@@ -136,7 +136,8 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     fluid_model = sphere_model(setup.model.radius, grid, [Port("bottom", "flow", flow)], body,
                                density=liquid.density, viscosity=fl["viscosity"],
                                port_radius_cells=port["radius"] / grid.spacing,
-                               time_scheme=liquid_scheme, convection=fluid_convection(setup))
+                               time_scheme=liquid_scheme, convection=fluid_convection(setup),
+                               face_memory=fl["face_memory"])
     surface = membrane_surface(setup, model, fluid_model)
     fluid = FluidSolver(fluid_model, surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)
