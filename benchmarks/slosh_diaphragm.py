@@ -83,6 +83,14 @@ CASES = {
     "window 1 ms": [("slosh", "window", lambda v: 1e-3)],
     "window 4 ms": [("slosh", "window", lambda v: 4e-3)],
 }
+#: the second-order window: BDF2, inviscid and linearised, every face keeping its history, the
+#: pressure's surface mean at the nodes (README, 'Slosh with the diaphragm')
+SECOND_ORDER = [("coupling", "time_scheme", lambda v: "bdf2"),
+                ("fluid", "viscosity", lambda v: 0.0), ("fluid", "convection", lambda v: "none"),
+                ("fluid", "face_memory", lambda v: "every-face"),
+                ("fluid", "pressure_map", lambda v: "surface-mean")]
+CASES.update({f"second order, window {w * 1e3:g} ms": SECOND_ORDER + [
+    ("slosh", "window", lambda v, w=w: w)] for w in (1e-3, 5e-4, 2.5e-4)})
 #: the pulse's peak times the scene's 0.5 m/s^2, doubling: where the response stops being linear
 PULSE_SCALES = (0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0)
 CASES.update({f"pulse x{s:g}": [("motion", "amplitude", lambda v, s=s: [s * a for a in v])]
