@@ -326,12 +326,35 @@ def test_faces_that_keep_their_history_leave_the_diaphragms_slosh_undamped():
         v = scene.values
         v["slosh"].update(end_time=1.0, window=0.001)
         v["coupling"]["time_scheme"] = "bdf2"
-        v["fluid"].update(viscosity=0.0, convection="none", face_memory=memory)
+        v["fluid"].update(viscosity=0.0, convection="none", face_memory=memory,
+                          pressure_map="node-fit")
         runs[memory] = PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
         assert not runs[memory].attrs.get("analysis_failure"), memory
     print({m: (r.attrs["mode_frequency_hz"], r.attrs["mode_zeta"]) for m, r in runs.items()})
     assert runs["ring"].attrs["zeta"] > 0.002
     assert max(abs(z) for z in runs["every-face"].attrs["mode_zeta"]) < 0.0004
+
+
+@pytest.mark.slow
+def test_the_bundled_diaphragms_window_leaves_its_slosh_undamped_and_bounded():
+    """The bundled slosh-diaphragm as it is (1 ms BDF2, every face's memory, the surface
+    mean), inviscid and linearised, 1 s (about 7 min): its numerical damping of both lateral
+    modes is below a tenth of water's physical zeta 0.004 (issue's bound 0.0004; measured over
+    2 s: -0.00005 and -0.00015), and the membrane's own kinetic energy, which the scheme could
+    feed at high membrane modes (it grows at 0.25 ms), stays bounded over the decay."""
+    scene = load_scene("slosh-diaphragm")
+    scene.values["slosh"]["end_time"] = 1.0
+    scene.values["fluid"].update(viscosity=0.0, convection="none")
+    result = PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
+    assert not result.attrs.get("analysis_failure") and not result.attrs.get("failure")
+    print(result.attrs["mode_frequency_hz"], result.attrs["mode_zeta"])
+    assert scene.values["slosh"]["window"] == 0.001
+    assert max(abs(z) for z in result.attrs["mode_zeta"]) < 0.0004
+    w = result.groups["windows"]
+    t, membrane = np.asarray(w["time"]), np.asarray(w["membrane_kinetic_energy"])
+    early = membrane[(t >= 0.2) & (t < 0.4)].mean()
+    late = membrane[t >= 0.8].mean()
+    assert late < 2.0 * early
 
 
 def test_a_slosh_run_whose_energy_runs_away_stops_by_name():
