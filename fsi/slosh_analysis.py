@@ -470,3 +470,17 @@ def _regress(target: np.ndarray, regressors: np.ndarray) -> tuple[np.ndarray, np
     total = float(target @ target)
     relative = float(np.sqrt(rss / total)) if total > 0.0 else 0.0
     return coefficients, std, relative
+
+
+def stokes_layer(viscosity: float, density: float, omega: float) -> float:
+    """Thickness (m) of the oscillating boundary layer on a wall, delta = (2 nu / omega)^1/2
+    (Stokes' second problem; Landau & Lifshitz, Fluid Mechanics, section 24), for a dynamic
+    viscosity (Pa s), a density (kg/m^3) and an angular frequency (rad/s). A slosh mode's
+    physical damping at low viscosity is the dissipation in this layer (NASA SP-106, ch. 4);
+    a grid whose cells are much thicker than it does not resolve that damping."""
+    viscosity = checked_scalar("viscosity", viscosity)
+    if viscosity < 0.0:
+        raise ValueError(f"viscosity: must be >= 0 Pa s, got {viscosity!r}")
+    density = checked_scalar("density", density, positive=True)
+    omega = checked_scalar("omega", omega, positive=True)
+    return float(np.sqrt(2.0 * viscosity / (density * omega)))

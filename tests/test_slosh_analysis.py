@@ -265,3 +265,28 @@ def test_failed_spring_mass_keeps_the_decay():
     assert out["frequency_hz"] == pytest.approx(natural / (2 * np.pi), rel=1e-6)
     assert out["zeta"] == pytest.approx(zeta, rel=1e-4)
     assert out["lambda1"] == pytest.approx(natural**2 * 0.20955 / 9.81, rel=1e-6)
+
+
+def test_stokes_layer_is_the_oscillating_walls_and_says_when_a_grid_misses_it():
+    """delta = (2 nu / omega)^1/2 (Stokes' second problem, Landau & Lifshitz section 24):
+    water (nu = 1e-6 m^2/s) at the diaphragm's 6.8243 Hz is 0.216 mm thick, 0.0067 of a 16^3
+    cell of the 0.20955 m tank (32 mm); the summary says that such a zeta is the grid's."""
+    from fluid.tank import tank_spacing
+    from fsi.procedures.slosh import _zeta_origin
+    from fsi.slosh_analysis import stokes_layer
+    omega = 2 * np.pi * 6.8243
+    delta = stokes_layer(1e-3, 1000.0, omega)
+    assert delta == pytest.approx(np.sqrt(2e-6 / omega), rel=1e-12)
+    assert delta == pytest.approx(2.160e-4, rel=1e-3)
+    assert stokes_layer(0.0, 1000.0, omega) == 0.0
+    with pytest.raises(ValueError, match="viscosity"):
+        stokes_layer(-1e-3, 1000.0, omega)
+    with pytest.raises(ValueError, match="omega"):
+        stokes_layer(1e-3, 1000.0, 0.0)
+    h = tank_spacing(0.20955, 16, axisymmetric=False)
+    assert delta / h == pytest.approx(0.0067, abs=1e-4)
+    coarse = dict(stokes_layer=delta, stokes_layer_cells=delta / h, viscosity=1e-3)
+    assert "not in it" in _zeta_origin(coarse) and "0.22 mm" in _zeta_origin(coarse)
+    assert "scheme's" in _zeta_origin(dict(coarse, viscosity=0.0))
+    assert "spans 2 cells" in _zeta_origin(dict(coarse, stokes_layer_cells=2.0))
+    assert _zeta_origin({}) == ""

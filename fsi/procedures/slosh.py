@@ -38,6 +38,7 @@ from ..lifecycle import Progress, Run, RunResult, stack
 from ..models import XPBD_COURANT_FRACTION, XPBD_DYNAMIC_SWEEPS
 from ..motion import body_acceleration, tank_acceleration
 from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
+from ..slosh_analysis import stokes_layer
 from ..slosh_response import contents_response, first_mode
 from .coupled import COUPLING, FLUID, MOTION
 from .coupled_fill import START_TOLERANCE
@@ -173,6 +174,7 @@ def slosh(setup, progress: Progress) -> RunResult:
         if attrs.get("omega"):
             attrs["seconds_per_period"] = attrs["wall_seconds"] / (
                 time[-1] * attrs["omega"] / (2 * np.pi))
+            attrs.update(stokes_attrs(scene, radius, attrs["omega"]))
     attrs.update(compliance_attrs(contents, attrs))
     return run.result({"windows": windows, "surface": surface_data}, **attrs)
 
@@ -194,6 +196,29 @@ def run_windows(setup, run: Run, start: Start, body, window: float, n_windows: i
                                                     elapsed=run.elapsed(),
                                                     scene=setup.scene.text))
     return windows.finish()
+
+
+def stokes_attrs(scene, radius: float, omega: float) -> dict:
+    """The first mode's wall boundary layer (:func:`fsi.slosh_analysis.stokes_layer`, m) and
+    its thickness in cells of the liquid's grid: a fitted zeta holds the wall's viscous
+    damping only where the grid resolves that layer (README, 'Slosh with the diaphragm')."""
+    h = tank_spacing(radius, scene["fluid"]["cells"], axisymmetric=False)
+    delta = stokes_layer(scene["fluid"]["viscosity"], scene["liquid"]["density"], omega)
+    return dict(stokes_layer=delta, stokes_layer_cells=delta / h)
+
+
+def _zeta_origin(a: dict) -> str:
+    """What the fitted zeta holds, for the summary."""
+    if "stokes_layer" not in a:
+        return ""
+    if a["viscosity"] == 0.0:
+        return " (inviscid: the scheme's own)"
+    if a["stokes_layer_cells"] < 1.0:
+        return (f" (the grid's: the wall's Stokes layer (2 nu / omega)^1/2 = "
+                f"{1e3 * a['stokes_layer']:.2g} mm is {a['stokes_layer_cells']:.2g} of a cell, "
+                "so the physical boundary-layer damping is not in it)")
+    return (f" (the wall's Stokes layer {1e3 * a['stokes_layer']:.2g} mm spans "
+            f"{a['stokes_layer_cells']:.2g} cells)")
 
 
 def compliance_attrs(contents: Contents, attrs: dict) -> dict:
@@ -238,7 +263,7 @@ def report(result) -> None:
         return
     print(f"  first mode: {a['frequency_hz']:.4f} +- {a['frequency_hz_std']:.1e} Hz, "
           f"lambda1 = omega^2 R / g = {a['lambda1']:.4f}, zeta = {a['zeta']:.5f} +- "
-          f"{a['zeta_std']:.1e}")
+          f"{a['zeta_std']:.1e}{_zeta_origin(a)}")
     for k in range(1, int(a.get("modes", 1))):
         mass = (f", x slosh mass {a['mode_slosh_mass'][k]:.3f} kg"
                 if "mode_slosh_mass" in a else "")
