@@ -2,7 +2,7 @@
 
     python benchmarks/slosh_energy.py [--fills 0.5 0.53] [--cells 16] [--end-time 5.0]
                                       [--viscosity 0.05] [--pulse-scale 1.0]
-                                      [--convection upwind|none]
+                                      [--convection upwind|none] [--surface limp|linear]
 
 Runs the bundled ``slosh-half`` scene (a 0.5 m/s^2 sin^2 lateral pulse over 0.1 s, then free
 decay, 2 ms windows) at each tank fraction V / (4/3 pi R^3) three ways and prints one JSON
@@ -45,11 +45,11 @@ PERIODS = 5
 
 
 def run(fill: float, cells: int, end_time: float, viscosity: float = 0.0,
-        pulse_scale: float = 1.0, convection: str = "upwind"):
+        pulse_scale: float = 1.0, convection: str = "upwind", surface: str = "limp"):
     """The bundled ``slosh-half`` at tank fraction ``fill`` on ``cells``^3 with
-    ``fluid.convection``: its result."""
+    ``fluid.convection`` and ``slosh.surface``: its result."""
     scene = load_scene("slosh-half")
-    scene.values["slosh"].update(fill=fill, end_time=end_time)
+    scene.values["slosh"].update(fill=fill, end_time=end_time, surface=surface)
     scene.values["fluid"].update(cells=cells, viscosity=viscosity, convection=convection)
     motion = scene.values["motion"]
     motion["amplitude"] = [pulse_scale * a for a in motion["amplitude"]]
@@ -120,16 +120,19 @@ def main(argv=None) -> None:
                         help="times the scene's 0.5 m/s^2 pulse")
     parser.add_argument("--convection", choices=sorted(FLUID_CONVECTIONS), default="upwind",
                         help="fluid.convection of every run")
+    parser.add_argument("--surface", choices=("limp", "linear"), default="limp",
+                        help="slosh.surface of every run (linear needs --convection none)")
     args = parser.parse_args(argv)
     cases = []
-    scale, conv = args.pulse_scale, args.convection
+    scale = args.pulse_scale
+    keys = dict(convection=args.convection, surface=args.surface)
     for fill in args.fills:
-        inviscid = run(fill, args.cells, args.end_time, pulse_scale=scale, convection=conv)
+        inviscid = run(fill, args.cells, args.end_time, pulse_scale=scale, **keys)
         viscous = run(fill, args.cells, args.end_time, viscosity=args.viscosity,
-                      pulse_scale=scale, convection=conv)
-        half = run(fill, args.cells, args.end_time, pulse_scale=0.5 * scale, convection=conv)
+                      pulse_scale=scale, **keys)
+        half = run(fill, args.cells, args.end_time, pulse_scale=0.5 * scale, **keys)
         case = dict(fill=fill, cells=args.cells, viscosity=args.viscosity, pulse_scale=scale,
-                    convection=conv,
+                    convection=args.convection, surface=args.surface,
                     surface_amplitude=_surface_amplitude(inviscid),
                     lambda1=inviscid.attrs.get("lambda1"),
                     wall_seconds=inviscid.attrs["wall_seconds"])

@@ -1,15 +1,20 @@
 """First lateral slosh mode of the spherical tank by tank fraction: frequency, damping, slosh
 mass, speed.
 
-    python benchmarks/slosh_frequency.py [--fills 0.3 0.5 0.7] [--cells 16 24] [--limp]
-                                         [--end-time 5.0]
+    python benchmarks/slosh_frequency.py [--fills 0.3 0.5 0.7] [--cells 16 24]
+                                         [--limp | --surface limp|linear] [--end-time 5.0]
 
 Runs the bundled ``slosh-half`` scene (a 0.5 m/s^2 sin^2 lateral pulse over 0.1 s, then
 inviscid free decay, 2 ms windows) at each tank fraction V / (4/3 pi R^3) and fluid grid, and
 prints one JSON object with, per case, ``lambda1`` = omega^2 R / g, ``frequency_hz``, ``zeta``
 (with standard errors), ``slosh_mass_fraction``, ``slosh_mass_height``, ``hinge_height``,
-``wall_seconds`` and ``seconds_per_period``. ``--limp`` selects the limp diaphragm (the free
-surface), the only surface model so far. Anchors at tank fraction 0.5: lambda1 = 1.5602 (rigid
+``wall_seconds`` and ``seconds_per_period``. ``--surface`` picks the surface model: ``limp``
+(the default, also ``--limp``: the limp diaphragm, the moving free surface) or ``linear`` (the
+same linearised, with ``fluid.convection = "none"``: linear slosh theory's model). With two
+grids or more, ``extrapolated`` gives per fill Richardson's value at zero cell size from the
+two finest (order 2, the scheme's; with three grids or more also at the observed order of the
+three finest, ``observed_order``), and its cost: the two finest runs' wall seconds for five
+periods. Anchors at tank fraction 0.5: lambda1 = 1.5602 (rigid
 half-full sphere, Budiansky 1960; NASTRAN demo d03031a), and the peer a user would pick for a
 bare tank, OpenFOAM interFoam (v1912, this machine, 2 cores): 225 s for five periods at 34,776
 cells with lambda1 off by -1.9 %. Writes ``benchmarks/output/slosh_frequency.png`` (lambda1
@@ -22,7 +27,10 @@ import json
 import logging
 from pathlib import Path
 
+from fluid.tank import tank_spacing
 from fsi.build import build
+from fsi.constants import TANK_RADIUS
+from fsi.extrapolation import observed_order, richardson
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 
@@ -38,16 +46,45 @@ KEYS = ("lambda1", "lambda1_std", "frequency_hz", "frequency_hz_std", "zeta", "z
         "tank_fraction", "wall_seconds", "seconds_per_period")
 
 
+#: slosh.surface -> the fluid.convection its runs take (linear theory has no convective term)
+SURFACE_CONVECTION = {"limp": "upwind", "linear": "none"}
+
+
 def run(fill: float, cells: int, end_time: float, surface: str) -> dict:
     """The bundled ``slosh-half`` at tank fraction ``fill`` on ``cells``^3: its numbers."""
     scene = load_scene("slosh-half")
     scene.values["slosh"].update(fill=fill, end_time=end_time, surface=surface)
-    scene.values["fluid"]["cells"] = cells
+    scene.values["fluid"].update(cells=cells, convection=SURFACE_CONVECTION[surface])
     result = PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
     out = dict(fill=fill, cells=cells, surface=surface)
     out.update({k: result.attrs.get(k) for k in KEYS})
     if result.attrs.get("analysis_failure"):
         out["analysis_failure"] = result.attrs["analysis_failure"]
+    return out
+
+
+def extrapolated(cases: list[dict]) -> list[dict]:
+    """Per fill with two grids or more: lambda1 at zero cell size (module doc)."""
+    out = []
+    for fill in sorted({c["fill"] for c in cases}):
+        runs = sorted((c for c in cases if c["fill"] == fill and c.get("lambda1") is not None),
+                      key=lambda c: c["cells"])
+        if len(runs) < 2:
+            continue
+        h = [tank_spacing(TANK_RADIUS, c["cells"], axisymmetric=False) for c in runs]
+        lam = [c["lambda1"] for c in runs]
+        entry = dict(fill=fill, cells=[c["cells"] for c in runs[-2:]],
+                     lambda1=richardson(lam[-2], lam[-1], h[-2], h[-1], 2.0),
+                     seconds_five_periods=sum(5 * c["seconds_per_period"] for c in runs[-2:]))
+        if len(runs) >= 3:
+            order = observed_order(abs(lam[-3] - lam[-2]), abs(lam[-2] - lam[-1]), h[-3:])
+            entry["observed_order"] = order
+            if order is not None:
+                entry["lambda1_at_observed_order"] = richardson(lam[-2], lam[-1], h[-2],
+                                                                h[-1], order)
+        if fill == 0.5:
+            entry["lambda1_error"] = entry["lambda1"] / LAMBDA1_HALF - 1
+        out.append(entry)
     return out
 
 
@@ -75,19 +112,22 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fills", type=float, nargs="+", default=[0.5])
     parser.add_argument("--cells", type=int, nargs="+", default=[24])
-    parser.add_argument("--limp", action="store_true",
-                        help="the limp diaphragm (free surface); the default, the only model")
+    parser.add_argument("--surface", choices=sorted(SURFACE_CONVECTION), default="limp",
+                        help="slosh.surface of every run")
+    parser.add_argument("--limp", action="store_const", dest="surface", const="limp",
+                        help="the limp diaphragm (the moving free surface): --surface limp")
     parser.add_argument("--end-time", type=float, default=5.0, help="simulated seconds")
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING)
-    cases = [run(f, c, args.end_time, "limp") for f in args.fills for c in args.cells]
+    cases = [run(f, c, args.end_time, args.surface) for f in args.fills for c in args.cells]
     plot(cases)
     half = [c for c in cases if c["fill"] == 0.5 and c.get("lambda1") is not None]
     for c in half:
         c["lambda1_error"] = c["lambda1"] / LAMBDA1_HALF - 1
         c["seconds_five_periods"] = 5 * c["seconds_per_period"]
         c["ratio_to_interfoam"] = c["seconds_five_periods"] / INTERFOAM["seconds_five_periods"]
-    print(json.dumps(dict(cases=cases, anchor_lambda1_half=LAMBDA1_HALF, interfoam=INTERFOAM,
+    print(json.dumps(dict(cases=cases, extrapolated=extrapolated(cases),
+                          anchor_lambda1_half=LAMBDA1_HALF, interfoam=INTERFOAM,
                           figure=str(FIGURE)), indent=1))
 
 

@@ -175,17 +175,27 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
          dt: float) -> tuple[FluidState, StepReport]:
     """Advance ``state`` by ``dt`` (s) to the liquid under the surface ``geometry`` (at
     t + dt); see the module doc."""
+    surface = surface_of(model, geometry)
+    return advance(model, ops, state, geometry, dt, surface,
+                   surface.reduced_pressure(model, state.time),
+                   surface.reduced_pressure(model, state.time + dt))
+
+
+def advance(model: FluidModel, ops: ProjectionOperators, state: FluidState,
+            geometry: Geometry, dt: float, surface: Surface, p_s_old: np.ndarray,
+            p_s_new: np.ndarray) -> tuple[FluidState, StepReport]:
+    """The free-surface step of :func:`step` with the surface's reduced pressure given at its
+    crossings (``surface``'s faces): ``p_s_old`` (k,) Pa at t and ``p_s_new`` (k,) Pa at
+    t + dt (:mod:`fluid.linear_surface` adds the elevation's hydrostatic pressure)."""
     tic = _time.perf_counter()
     g = model.grid
     rho = model.density
     t0, t1 = state.time, state.time + dt
-    surface = surface_of(model, geometry)
     old = surface_of(model, state.geometry)
     view = surface.view
     fluid = view.fluid_centre
     wall = view.wall_velocity[:, [0, 2]] if g.axisymmetric else view.wall_velocity
     p_bc_old = port_values(model, ops, t0)
-    p_s_old = surface.reduced_pressure(model, t0)
     grad_f_old = surface_gradient(model, surface, state.pressure, p_bc_old, p_s_old)
     weights = surface_weights(model, surface)
     grad_c_old = cell_gradient(model, grad_f_old, weights)
@@ -211,7 +221,7 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
                        - interpolate_to_faces(model, old_cells, fluid))[memory]
     _carry_over(model, old.view.face_fraction, view.face_fraction, state.face_velocity, u_face)
     p_bc_new = port_values(model, ops, t1)
-    dp_s = surface.reduced_pressure(model, t1) - p_s_old
+    dp_s = p_s_new - p_s_old
     inputs, mismatch = _pressure_inputs(model, ops, surface, u_face, p_bc_new - p_bc_old, dp_s,
                                         dt)
     matrix, rhs = ops.assembly.pressure(inputs)
@@ -230,8 +240,7 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     residual = net_outflow(model, beta * g.face_area * u_face_new)
     wet = surface.wet
     divergence = float(np.max(np.abs(residual[wet]) / g.cell_volume[wet])) if wet.any() else 0.0
-    pressure = _extend(model, surface, state.pressure + dp, p_bc_new,
-                       surface.reduced_pressure(model, t1), weights)
+    pressure = _extend(model, surface, state.pressure + dp, p_bc_new, p_s_new, weights)
     new = FluidState(time=t1, cell_velocity=u_cell, face_velocity=u_face_new,
                      pressure=pressure, geometry=geometry)
     toc_pressure = _time.perf_counter() - tic
@@ -381,3 +390,8 @@ def column_rates(model: FluidModel, state: FluidState) -> tuple[np.ndarray, np.n
 
 #: smallest open cross-section of a surface column, as a fraction of a cell face
 MIN_COLUMN_FRACTION = 0.05
+
+
+# the linearised surface's stepper builds on this one and registers itself here, so that every
+# interface condition is known wherever the registry is
+from . import linear_surface as _linear_surface  # noqa: E402,F401

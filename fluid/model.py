@@ -71,8 +71,10 @@ class FluidModel:
     :func:`fluid.linear.pressure_solver_for`);
     pressure_tolerance: relative residual of the pressure solve;
     interface_condition: 'wall' (the interface is a moving wall: its motion is given, the
-    liquid's pressure on it is the answer) or 'free' (a free surface at the gas pressure: the
-    liquid's velocity at it is the answer, :mod:`fluid.free_surface`);
+    liquid's pressure on it is the answer), 'free' (a free surface at the gas pressure: the
+    liquid's velocity at it is the answer, :mod:`fluid.free_surface`) or 'free-linear' (the
+    same linearised: the mean surface fixed, its elevation a state,
+    :mod:`fluid.linear_surface`);
     assembly: who builds the linear systems, a name in :data:`fluid.systems.ASSEMBLIES`
     ('direct': laid out once, refilled each step; 'fipy': FiPy's terms, rebuilt each step;
     the two give the same matrices, see :mod:`fluid.assembly`);
@@ -143,7 +145,9 @@ class FluidState:
     face_velocity (n_faces,) m/s along FiPy's face normal; pressure (n_cells,) reduced
     pressure p_red (Pa, see module doc); geometry: the liquid region at ``time``;
     previous: the state one step earlier (its own ``previous`` dropped), which multistep
-    time schemes read (:mod:`fluid.time_schemes`); None at the start."""
+    time schemes read (:mod:`fluid.time_schemes`); None at the start; surface_height (k,) m:
+    a linearised free surface's displacement along its outward normal at each of its faces
+    (:mod:`fluid.linear_surface`), None for every other step."""
 
     time: float
     cell_velocity: np.ndarray
@@ -151,3 +155,4 @@ class FluidState:
     pressure: np.ndarray
     geometry: Geometry
     previous: "FluidState | None" = None
+    surface_height: np.ndarray | None = None

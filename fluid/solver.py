@@ -69,9 +69,13 @@ class FluidSolver:
         return self.state.geometry.liquid_volume
 
     def advance(self, dt: float, interface: Interface | None = None) -> StepReport:
-        """Advance by ``dt`` (s) with the interface at the end of the step."""
+        """Advance by ``dt`` (s) with the interface at the end of the step (None, or the
+        interface already there: the same geometry, not computed again)."""
         tic = _time.perf_counter()
-        geometry = self.geometry_for(interface if interface is not None else self.interface)
+        if interface is None or interface is self.interface:
+            geometry = self.state.geometry
+        else:
+            geometry = self.geometry_for(interface)
         toc = _time.perf_counter() - tic
         self.state, report = step(self.model, self._ops, self.state, geometry, dt)
         if interface is not None:

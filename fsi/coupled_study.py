@@ -33,12 +33,12 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from scipy.optimize import brentq
 
 from structure.volume import liquid_first_moment, liquid_volume
 
 from .build import build
 from .compare import eqn_6_1_error
+from .extrapolation import observed_order
 from .procedures import PROCEDURES
 from .scene import load_scene
 
@@ -79,18 +79,6 @@ def run(table: str, key: str, value, end_time: float, held: dict) -> dict:
                 node_position=x, faces=setup.model.face_nodes, radius=setup.model.radius,
                 mean_iterations=float(result.attrs["mean_coupling_iterations"]),
                 seconds=time.perf_counter() - t0)
-
-
-def observed_order(d12: float, d23: float, h) -> float | None:
-    """p with d12 / d23 = (h1^p - h2^p) / (h2^p - h3^p), h coarse to fine (None when the
-    differences do not shrink, or p is outside 0.1..10)."""
-    h1, h2, h3 = h
-    if not (d12 > 0 and d23 > 0 and d12 > d23):
-        return None
-    g = lambda p: (h1**p - h2**p) / (h2**p - h3**p) - d12 / d23  # noqa: E731
-    if g(0.1) * g(10.0) > 0:
-        return None
-    return float(brentq(g, 0.1, 10.0))
 
 
 def family(name: str, end_time: float) -> dict:

@@ -90,6 +90,7 @@ def test_contents_response_of_a_moving_point_mass():
     ("[slosh]\nanalysis_start = 9.0\nend_time = 1.0", "slosh.analysis_start"),
     ("[liquid]\nbody_acceleration = [1.0, 0.0, -9.81]", "liquid.body_acceleration"),
     ("[fluid]\nconvection = 'central'", "fluid.convection"),
+    ("[slosh]\nsurface = 'linear'\n[fluid]\nconvection = 'upwind'", "fluid.convection"),
 ])
 def test_bad_slosh_scene_is_named(text, key):
     with pytest.raises(SceneError, match=key.replace(".", r"\.")):
@@ -98,7 +99,7 @@ def test_bad_slosh_scene_is_named(text, key):
 
 def test_bad_surface_lists_every_registered_surface():
     """The diaphragm registers itself after the schema is built; the error still offers it."""
-    with pytest.raises(SceneError, match="allowed 'limp', 'diaphragm'"):
+    with pytest.raises(SceneError, match="allowed 'limp', 'diaphragm', 'linear'"):
         parse_scene("[scene]\nprocedure = 'slosh'\n[slosh]\nsurface = 'rubber'")
 
 
@@ -242,7 +243,8 @@ def test_diaphragm_stiffens_the_first_mode():
 
 
 def test_bundled_slosh_scenes_validate():
-    for name in ("slosh-half", "slosh-forced", "slosh-diaphragm", "slosh-tension-field"):
+    for name in ("slosh-half", "slosh-forced", "slosh-diaphragm", "slosh-tension-field",
+                 "slosh-linear"):
         build(load_scene(name))
 
 

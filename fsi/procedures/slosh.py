@@ -6,7 +6,8 @@
   free decay), ``sine`` (forced) or ``table``; the contents feel b(t) = g - a(t).
 * Surface (``slosh.surface``, a registry): ``limp``, the diaphragm slack, massless and
   without bending, i.e. the liquid's free surface (:mod:`fsi.limp`, :mod:`fluid.free_surface`);
-  ``diaphragm``, the elastic membrane of ``[membrane]`` coupled to the liquid by
+  ``linear``, the same linearised (the level fixed, its elevation a field on it: linear slosh
+  theory, :mod:`.slosh_linear`); ``diaphragm``, the elastic membrane of ``[membrane]`` coupled to the liquid by
   ``[coupling]`` (:mod:`.slosh_diaphragm`).
 * Liquid: incompressible flow on the 3-D immersed-boundary grid (``[fluid]``), one liquid
   step per window.
@@ -44,6 +45,7 @@ from .coupled import COUPLING, FLUID, MOTION
 from .coupled_fill import START_TOLERANCE
 from .slosh_limp import LimpWindows  # noqa: F401  (registers "limp", the default, first)
 from .slosh_diaphragm import DiaphragmWindows  # noqa: F401  (registers "diaphragm")
+from .slosh_linear import LinearWindows  # noqa: F401  (registers "linear")
 from .slosh_surfaces import SURFACES, Contents, Start
 
 log = logging.getLogger(__name__)
@@ -65,9 +67,10 @@ def _start(setup) -> Start:
 
 
 def check_depth(setup) -> None:
-    """Liquid and gas each span :data:`MIN_DEPTH_CELLS` cells of the fluid grid, and gravity
-    points down."""
+    """Liquid and gas each span :data:`MIN_DEPTH_CELLS` cells of the fluid grid, gravity
+    points down, and the surface model takes the scene (:meth:`SurfaceWindows.check`)."""
     scene = setup.scene
+    SURFACES[scene["slosh"]["surface"]].check(scene)
     radius = scene["tank"]["radius"]
     h = tank_spacing(radius, scene["fluid"]["cells"], axisymmetric=False)
     fill = scene["slosh"]["fill"]
@@ -96,8 +99,10 @@ SLOSH = Table({
     "fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
                 "tank fraction V / (4/3 pi R^3) of the liquid at rest"),
     "surface": Key(str, "limp", *one_of(SURFACES),
-                   "the diaphragm model: limp (slack, massless, no bending: the free surface) "
-                   "or diaphragm (the [membrane] coupled to the liquid by [coupling])"),
+                   "the diaphragm model: limp (slack, massless, no bending: the free surface), "
+                   "linear (the free surface linearised: linear slosh theory, needs "
+                   "fluid.convection = none) or diaphragm (the [membrane] coupled to the "
+                   "liquid by [coupling])"),
     "window": Key(float, 2e-3, lambda v: 0 < v <= 0.05, "0 < value <= 0.05 s",
                   "time window (s): one liquid step, one coupling window"),
     "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,

@@ -43,6 +43,9 @@ class LimpWindows(SurfaceWindows):
     """The limp diaphragm's windows (module doc): the height surface and the free-surface
     liquid under it."""
 
+    #: the liquid step's interface condition (:data:`fluid.projection.STEPPERS`)
+    interface_condition = "free"
+
     def __init__(self, setup, start: Start, body, run: Run, window: float, n_windows: int):
         super().__init__(window, n_windows)
         scene = setup.scene
@@ -50,7 +53,8 @@ class LimpWindows(SurfaceWindows):
         grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
         self.model = FluidModel(grid=grid, container=start.tank, density=setup.liquid.density,
                                 viscosity=scene["fluid"]["viscosity"], body_acceleration=body,
-                                interface_condition="free", convection=fluid_convection(setup))
+                                interface_condition=self.interface_condition,
+                                convection=fluid_convection(setup))
         self.surface = HeightSurface(grid, bottom=-2.0 * radius)
         self.heights = self.surface.flat(start.level)
         self.fluid = FluidSolver(self.model, self.surface.interface(self.heights))
@@ -69,15 +73,18 @@ class LimpWindows(SurfaceWindows):
         """Records the ``windows`` record at time ``t`` (s) in ``run``."""
         model, state = self.model, self.fluid.state
         free = surface_of(model, state.geometry).faces if model.viscosity > 0 else None
-        rise = self.heights.ravel() - self.level
         run.record("windows", dict(
             time=t, momentum=momentum(model, state),
             angular_momentum=angular_momentum(model, state),
             liquid_kinetic_energy=kinetic_energy(model, state),
-            potential_energy=0.5 * self.density * self.gravity * float(
-                np.sum(self.node_area * rise**2)),
+            potential_energy=self.potential_energy(),
             dissipation_rate=dissipation_rate(model, state, free),
             fluid_liquid_volume=self.fluid.liquid_volume, wall_seconds=run.elapsed()))
+
+    def potential_energy(self) -> float:
+        """The surface's gravitational potential energy (J), 1/2 rho g sum A_i (h_i - z0)^2."""
+        rise = self.heights.ravel() - self.level
+        return 0.5 * self.density * self.gravity * float(np.sum(self.node_area * rise**2))
 
     def step(self, run: Run) -> None:
         k, surface, window = self.k, self.surface, self.window

@@ -14,7 +14,7 @@ from ..lateral_compliance import Compliance
 from ..lifecycle import Run
 
 #: slosh.surface -> the :class:`SurfaceWindows` of that surface model
-#: (:mod:`.slosh_limp`, :mod:`.slosh_diaphragm`)
+#: (:mod:`.slosh_limp`, :mod:`.slosh_linear`, :mod:`.slosh_diaphragm`)
 SURFACES: dict[str, type] = {}
 
 DIVERGED_ENERGY_FACTOR = 10.0
@@ -65,6 +65,11 @@ class SurfaceWindows:
         times = self.window * np.arange(self.n_windows + 1)
         peak = max(float(np.linalg.norm(body(t))) for t in times)
         self.energy_scale = mass * peak * 2.0 * radius + stored
+
+    @classmethod
+    def check(cls, scene) -> None:
+        """Raise :class:`fsi.registry.SceneError` naming the key when this surface model
+        cannot run ``scene``; before the run starts."""
 
     @property
     def done(self) -> bool:
