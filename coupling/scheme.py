@@ -68,8 +68,9 @@ def register_scheme(name: str, implicit: bool = True):
 
 
 class CouplingError(RuntimeError):
-    """A window did not converge within ``max_iterations`` and the settings say stop;
-    ``window`` is its :class:`WindowLog` (residual history included)."""
+    """A window did not converge within ``max_iterations`` and the settings say stop, or its
+    data became non-finite (the window diverged, whatever the settings say); ``window`` is its
+    :class:`WindowLog` (residual history included)."""
 
     def __init__(self, message: str, window: "WindowLog"):
         super().__init__(message)
@@ -320,6 +321,16 @@ class _Packer:
         return out
 
 
+def _check_finite(fields: dict, source: str, window, t: float, iteration: int) -> None:
+    """Raise :class:`CouplingError` when any of ``fields`` holds a non-finite value: no later
+    iteration or window can use it."""
+    bad = [name for name, value in fields.items() if not np.all(np.isfinite(value))]
+    if bad:
+        raise CouplingError(f"window {window.index} (t = {t:g} s), iteration {iteration}: "
+                            f"{source} non-finite {', '.join(sorted(bad))}: the window "
+                            "diverged", window)
+
+
 def _pick(data: dict, names) -> dict:
     return {n: data[n] for n in names}
 
@@ -340,6 +351,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         out1 = solve1(t, dt, _pick(x, second.write_fields))
         out2 = solve2(t, dt, _pick(x if parallel else out1, first.write_fields))
         x_tilde = {**x, **out1, **out2}
+        _check_finite({**out1, **out2}, "a participant returned", window, t, it)
         residuals = {m.field: m.residual(x[m.field], x_tilde[m.field]) for m in settings.measures}
         window.residuals.append(residuals)
         window.iterations = it
@@ -352,6 +364,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         if packer is None:
             packer = _Packer(names, x_tilde)
         new = packer.unpack(acceleration.update(packer.pack(x), packer.pack(x_tilde)))
+        _check_finite(new, "the acceleration gave", window, t, it)
         window.relaxation.append(acceleration.last_relaxation)
         x = {**x_tilde, **new}
     if not window.converged:

@@ -129,6 +129,34 @@ def test_constant_relaxation_diverges_on_the_non_contractive_map():
     assert err.value.window.iterations == 30 and len(err.value.window.residuals) == 30
 
 
+class Blowing(Affine):
+    """An :class:`Affine` fluid whose output turns non-finite from its ``after``-th call."""
+
+    def __init__(self, *args, after=3, **kw):
+        super().__init__(*args, **kw)
+        self.after = after
+
+    def solve_window(self, time, dt, data_in):
+        out = super().solve_window(time, dt, data_in)
+        if self.calls >= self.after:
+            out = {k: np.full_like(v, np.nan) for k, v in out.items()}
+        return out
+
+
+@pytest.mark.parametrize("on_max", ["accept", "explicit", "error"])
+def test_a_non_finite_window_stops_the_run_whatever_the_settings(on_max):
+    """A participant's non-finite output (a diverged liquid) is never iterated on or
+    accepted: the run stops with a CouplingError naming the window, the iteration and the
+    field."""
+    s, f0 = _pair()
+    f = Blowing("fluid", "p", "d", f0.A, f0.b, after=3)
+    settings = _settings("implicit-serial", "iqn-ils")
+    settings.on_max_iterations = on_max
+    with pytest.raises(CouplingError, match=r"window 0 .*iteration 3: a participant returned "
+                                            r"non-finite p: the window diverged"):
+        run(s, f, settings, dt=0.1, n_windows=2)
+
+
 def test_checkpoint_restores_state_exactly():
     s, f = _pair()
     run(s, f, _settings("implicit-serial", "aitken"), dt=0.5, n_windows=1)
