@@ -78,3 +78,28 @@ def test_bad_solver_names_are_refused():
         make_solver("magic", symmetric=True)
     with pytest.raises(ValueError, match="needs a symmetric system"):
         make_solver("pcg-jacobi", symmetric=False)
+
+
+@pytest.mark.parametrize("name", ["bicgstab-jacobi", "lu", "pcg-jacobi"])
+def test_a_diagonal_system_is_divided_not_iterated(name):
+    """A kept CSR pattern whose off-diagonal entries are explicit zeros (an inviscid momentum
+    predictor without convection) is solved by division: 0 iterations, exact; one non-zero
+    off-diagonal entry sends it to the solver."""
+    n = 50
+    rng = np.random.default_rng(1)
+    diagonal = rng.uniform(1.0, 3.0, n)
+    rows = np.concatenate([np.arange(n), np.arange(1, n), np.arange(n - 1)])
+    cols = np.concatenate([np.arange(n), np.arange(n - 1), np.arange(1, n)])
+    values = np.concatenate([diagonal, np.zeros(2 * (n - 1))])
+    order = np.lexsort((cols, rows))
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n))])
+    pattern = sp.csr_matrix((values[order], cols[order], indptr), shape=(n, n))
+    assert pattern.nnz == 3 * n - 2  # the zeros are stored
+    rhs = rng.normal(size=n)
+    solver = make_solver(name, 1e-10, symmetric=True)
+    x, info = solver.solve(pattern, rhs, np.zeros(n))
+    assert info.iterations == 0 and np.array_equal(x, rhs / diagonal)
+    coupled = pattern.copy()
+    coupled.data[coupled.indices != np.repeat(np.arange(n), np.diff(coupled.indptr))] = -0.1
+    x, info = solver.solve(coupled, rhs, np.zeros(n))
+    assert info.iterations > 0 and info.residual <= 1e-10
