@@ -74,11 +74,11 @@ def _diagonal_solve(matrix, rhs, tolerance: float):
     entry of ``matrix`` is zero (the explicit zeros of a kept pattern included: an inviscid
     momentum predictor without convection is its transient term and its pins), else None."""
     m = matrix.tocsr()
-    rows = np.repeat(np.arange(m.shape[0]), np.diff(m.indptr))
-    if np.any(m.data[m.indices != rows]):
-        return None
     diagonal = m.diagonal()
-    if not np.all(diagonal != 0):
+    # canonical (no duplicate entries): every stored non-zero is on the diagonal exactly when
+    # the two counts agree and no diagonal entry is zero
+    if not (m.has_canonical_format and np.count_nonzero(m.data) == len(diagonal)
+            and np.all(diagonal != 0)):
         return None
     x = rhs / diagonal
     return x, SolveInfo(0, _relative_residual(matrix, x, rhs), tolerance)
