@@ -322,13 +322,14 @@ class _Packer:
 
 
 def _check_finite(fields: dict, source: str, window, t: float, iteration: int) -> None:
-    """Raise :class:`CouplingError` when any of ``fields`` holds a non-finite value: no later
-    iteration or window can use it."""
+    """Raise :class:`CouplingError` when any of ``fields`` (the measured or the accelerated
+    ones: a participant may write a field it has no value for as NaN) holds a non-finite
+    value: no later iteration or window can use it."""
     bad = [name for name, value in fields.items() if not np.all(np.isfinite(value))]
     if bad:
-        raise CouplingError(f"window {window.index} (t = {t:g} s), iteration {iteration}: "
-                            f"{source} non-finite {', '.join(sorted(bad))}: the window "
-                            "diverged", window)
+        raise CouplingError(f"window {window.index} (t = {t:g} s) not converged: at iteration "
+                            f"{iteration} {source} non-finite {', '.join(sorted(bad))} (the "
+                            "window diverged)", window)
 
 
 def _pick(data: dict, names) -> dict:
@@ -351,7 +352,8 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         out1 = solve1(t, dt, _pick(x, second.write_fields))
         out2 = solve2(t, dt, _pick(x if parallel else out1, first.write_fields))
         x_tilde = {**x, **out1, **out2}
-        _check_finite({**out1, **out2}, "a participant returned", window, t, it)
+        _check_finite({m.field: x_tilde[m.field] for m in settings.measures},
+                      "a participant returned", window, t, it)
         residuals = {m.field: m.residual(x[m.field], x_tilde[m.field]) for m in settings.measures}
         window.residuals.append(residuals)
         window.iterations = it
