@@ -183,15 +183,16 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
 
 def advance(model: FluidModel, ops: ProjectionOperators, state: FluidState,
             geometry: Geometry, dt: float, surface: Surface, p_s_old: np.ndarray,
-            p_s_new: np.ndarray) -> tuple[FluidState, StepReport]:
+            p_s_new: np.ndarray, old: Surface | None = None) -> tuple[FluidState, StepReport]:
     """The free-surface step of :func:`step` with the surface's reduced pressure given at its
     crossings (``surface``'s faces): ``p_s_old`` (k,) Pa at t and ``p_s_new`` (k,) Pa at
-    t + dt (:mod:`fluid.linear_surface` adds the elevation's hydrostatic pressure)."""
+    t + dt (:mod:`fluid.linear_surface` adds the elevation's hydrostatic pressure); ``old``:
+    the :class:`Surface` of ``state.geometry`` where the caller has it."""
     tic = _time.perf_counter()
     g = model.grid
     rho = model.density
     t0, t1 = state.time, state.time + dt
-    old = surface_of(model, state.geometry)
+    old = surface_of(model, state.geometry) if old is None else old
     view = surface.view
     fluid = view.fluid_centre
     wall = view.wall_velocity[:, [0, 2]] if g.axisymmetric else view.wall_velocity

@@ -103,7 +103,7 @@ def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometr
     t0, t1 = state.time, state.time + dt
     new, report = advance(model, ops, state, geometry, dt, surface,
                           surface_pressure(model, surface, height, t0),
-                          surface_pressure(model, surface, new_height, t1))
+                          surface_pressure(model, surface, new_height, t1), old)
     return replace(new, surface_height=new_height), report
 
 
