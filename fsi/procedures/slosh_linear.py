@@ -50,4 +50,5 @@ class LinearWindows(LimpWindows):
         self.k += 1
         if run.frame_due(k + 1):
             run.record("frames", dict(time=t, surface_height=self.heights.copy()))
-        run.progress(k + 1, f"t = {t:.3f} s, surface energy {self.potential_energy():.3e} J")
+        energy = run.groups["windows"][-1]["potential_energy"]
+        run.progress(k + 1, f"t = {t:.3f} s, surface energy {energy:.3e} J")
