@@ -378,8 +378,7 @@ def column_rates(model: FluidModel, state: FluidState) -> tuple[np.ndarray, np.n
     vertical = g.face_axis[faces] == g.vertical_axis
     column_cell = np.where(vertical, surface.cell, gas)
     nx, ny = g.shape[0], g.shape[1]
-    ij = np.unravel_index(g.cell_lattice[column_cell], g.shape)
-    column = ij[0] * ny + ij[1]
+    column = column_index(g, column_cell)
     flux = np.bincount(column, outflow, nx * ny)
     area = np.bincount(column[vertical], beta[vertical] * g.face_area[faces][vertical],
                        nx * ny)
@@ -387,6 +386,12 @@ def column_rates(model: FluidModel, state: FluidState) -> tuple[np.ndarray, np.n
     has = np.bincount(column, minlength=nx * ny) > 0
     rate = np.where(has, flux / area, 0.0)
     return rate.reshape(nx, ny), has.reshape(nx, ny)
+
+
+def column_index(grid, cells: np.ndarray) -> np.ndarray:
+    """(k,) the vertical column (i * ny + j) of each of ``cells`` (k,) on a 3-D grid."""
+    ij = np.unravel_index(grid.cell_lattice[cells], grid.shape)
+    return ij[0] * grid.shape[1] + ij[1]
 
 
 #: smallest open cross-section of a surface column, as a fraction of a cell face

@@ -37,7 +37,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .free_surface import Surface, advance, initial_pressure, surface_of
+from .free_surface import Surface, advance, column_index, initial_pressure, surface_of
 from .geometry import Geometry
 from .model import FluidModel, FluidState
 from .projection import ProjectionOperators, StepReport, register_stepper
@@ -136,8 +136,7 @@ def column_heights(model: FluidModel, state: FluidState) -> tuple[np.ndarray, np
     height = (np.zeros(len(surface.faces)) if state.surface_height is None
               else state.surface_height)
     vertical = g.face_axis[surface.faces] == g.vertical_axis
-    ij = np.unravel_index(g.cell_lattice[surface.cell[vertical]], g.shape)
-    column = ij[0] * g.shape[1] + ij[1]
+    column = column_index(g, surface.cell[vertical])
     n = g.shape[0] * g.shape[1]
     total = np.bincount(column, height[vertical], n)
     count = np.bincount(column, minlength=n)
