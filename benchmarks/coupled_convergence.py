@@ -6,7 +6,8 @@ one at a time, with the observed order, and the speed-against-accuracy chart.
 The study is :mod:`fsi.coupled_study` (the case, the families, the observed order and the
 anchor are defined there; ``notebooks/speed_vs_accuracy.ipynb`` reads the same).  Writes
 ``benchmarks/output/coupled_convergence.json``, ``coupled_convergence.png`` and
-``coupled_speed_accuracy.png``; prints one JSON object.  Default run: about 1.5 min on 2 cores.
+``coupled_speed_accuracy.png``; prints one JSON object.  Default run: about 6 min on 2 cores
+(4.5 of them the tension-field family).
 """
 from __future__ import annotations
 

@@ -79,6 +79,65 @@ def _block(x, inv_mass, nodes, grads, value, compliance, lam, t, inv_dt2, apply_
                 x[n, 2] += w * grads[i, p, 2]
 
 
+TAUT, WRINKLED, SLACK = 0, 1, 2
+"""The tension field's regimes of a triangle (:func:`tension_field_regime`)."""
+
+
+@njit(**JIT, inline="always")
+def tension_field_regime(value, nu):
+    """(regime, cos, sin) of a triangle's strain (e00, e11, e01) (-), tensor shear e01: TAUT
+    when e2 >= -nu e1, WRINKLED when e1 > 0 > e2 + nu e1, SLACK when e1 <= 0 (e1 >= e2 its
+    principal strains), and the major direction n1 = (cos, sin) in the triangle's rest
+    frame."""
+    a, d, b = value[0], value[1], value[2]
+    mean = 0.5 * (a + d)
+    rad = np.sqrt(0.25 * (a - d) * (a - d) + b * b)
+    e1 = mean + rad
+    e2 = mean - rad
+    if e1 <= 0.0:
+        return SLACK, 1.0, 0.0
+    if e2 < -nu * e1:
+        theta = 0.5 * np.arctan2(2.0 * b, a - d)
+        return WRINKLED, np.cos(theta), np.sin(theta)
+    return TAUT, 1.0, 0.0
+
+
+@njit(**JIT, inline="always")
+def _uniaxial_block(x, inv_mass, nodes, grads, value, cn, sn, compliance, lam, t, inv_dt2):
+    """A wrinkled triangle's one constraint: its major principal strain
+    e1 = w . (e00, e11, e01), w = (cn^2, sn^2, 2 cn sn), compliance alpha_00 = 1 / (E t A)
+    (the plane-stress compliance's first entry), so that its energy e1^2 / (2 alpha_00) is
+    the relaxed energy, 1/2 E e1^2 per unit volume, and its gradient w . grad(e) that
+    energy's (Pipkin 1986). Its multiplier mu is kept in the block's three as lam[t] = mu w,
+    so that a warm start (lam[t] applied through the three strains' gradients) applies it
+    whatever the triangle's regime then; mu is read back as w . lam[t] / |w|^2."""
+    k = nodes.shape[1]
+    w0, w1, w2 = cn * cn, sn * sn, 2.0 * cn * sn
+    ww = w0 * w0 + w1 * w1 + w2 * w2
+    mu = (w0 * lam[t, 0] + w1 * lam[t, 1] + w2 * lam[t, 2]) / ww
+    alpha = compliance[t, 0, 0] * inv_dt2
+    e1 = w0 * value[0] + w1 * value[1] + w2 * value[2]
+    denom = alpha
+    for p in range(k):
+        n = nodes[0, p]
+        if n < 0:
+            continue
+        for r in range(3):
+            g = w0 * grads[0, p, r] + w1 * grads[1, p, r] + w2 * grads[2, p, r]
+            denom += inv_mass[n] * g * g
+    dmu = -(e1 + alpha * mu) / denom
+    mu += dmu
+    lam[t, 0] = mu * w0
+    lam[t, 1] = mu * w1
+    lam[t, 2] = mu * w2
+    for p in range(k):
+        n = nodes[0, p]
+        if n >= 0 and inv_mass[n] > 0.0:
+            w = inv_mass[n] * dmu
+            for r in range(3):
+                x[n, r] += w * (w0 * grads[0, p, r] + w1 * grads[1, p, r] + w2 * grads[2, p, r])
+
+
 @njit(**JIT, inline="always")
 def relax_strain(value, nu):
     """Tension-field relaxation in place of a triangle's strain (e00, e11, e01) (-), tensor
@@ -91,8 +150,10 @@ def relax_strain(value, nu):
     * slack, e1 <= 0: zero.
 
     The plane-stress energy of the result is the relaxed energy (1/2 E e1^2 per unit volume
-    when wrinkled) and, with the gradients of the unrelaxed strain, its constraint force is
-    the relaxed energy's gradient: the sheet carries no compression."""
+    when wrinkled): the sheet carries no compression. The sweep itself solves a wrinkled
+    triangle as one uniaxial constraint (:func:`_uniaxial_block`) and a slack one with zero
+    strain (:func:`membrane_sweep`); this function gives the energy
+    (:func:`membrane_energy`)."""
     a, d, b = value[0], value[1], value[2]
     mean = 0.5 * (a + d)
     rad = np.sqrt(0.25 * (a - d) * (a - d) + b * b)
@@ -154,9 +215,12 @@ def membrane_energy(x, triangles, rest_inverse, compliance, relax, nu):
 def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt2, apply_only,
                    relax, nu):
     """Green-strain blocks of every triangle with a free node (Gauss-Seidel); with ``relax``
-    the strain is the tension field's (:func:`relax_strain`, Poisson ratio ``nu``) and the
-    gradients the unrelaxed strain's (a stiffer chord; the fixed point is the relaxed
-    energy's)."""
+    the tension field's regimes (:func:`tension_field_regime`, Poisson ratio ``nu``): a taut
+    triangle is the full block, a slack one the block at zero strain, a wrinkled one the
+    single constraint on its major principal strain (:func:`_uniaxial_block`), whose energy
+    and gradient are the relaxed energy's. (The relaxed strain in the three-constraint block
+    with the unrelaxed strain's gradients has the same fixed point, but its steps put energy
+    into a released sheet and ran away on the N = 26 diaphragm.)"""
     nodes = np.empty((3, 3), dtype=np.int64)
     grads = np.empty((3, 3, 3))
     value = np.empty(3)
@@ -169,8 +233,13 @@ def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt
             continue
         d = rest_inverse[t]
         s0, s1, cos01 = _triangle_strain(x, a, b, c, d, f0, f1, value)
-        if relax:
-            relax_strain(value, nu)
+        regime, cn, sn = TAUT, 1.0, 0.0
+        if relax and not apply_only:
+            regime, cn, sn = tension_field_regime(value, nu)
+            if regime == SLACK:
+                value[0] = 0.0
+                value[1] = 0.0
+                value[2] = 0.0
         for i in range(3):
             nodes[i, 0], nodes[i, 1], nodes[i, 2] = b, c, a
         for r in range(3):
@@ -186,8 +255,12 @@ def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt
             grads[2, 1, r] = g0 * d[1, 0] + g1 * d[1, 1]
             for i in range(3):
                 grads[i, 2, r] = -grads[i, 0, r] - grads[i, 1, r]
-        _block(x, inv_mass, nodes, grads, value, compliance, lam, t, inv_dt2, apply_only,
-               a3, r3, d3)
+        if regime == WRINKLED:
+            _uniaxial_block(x, inv_mass, nodes, grads, value, cn, sn, compliance, lam, t,
+                            inv_dt2)
+        else:
+            _block(x, inv_mass, nodes, grads, value, compliance, lam, t, inv_dt2, apply_only,
+                   a3, r3, d3)
 
 
 @njit(**JIT)
