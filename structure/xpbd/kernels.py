@@ -85,21 +85,21 @@ TAUT, WRINKLED, SLACK = 0, 1, 2
 
 @njit(**JIT, inline="always")
 def tension_field_regime(value, nu):
-    """(regime, cos, sin) of a triangle's strain (e00, e11, e01) (-), tensor shear e01: TAUT
-    when e2 >= -nu e1, WRINKLED when e1 > 0 > e2 + nu e1, SLACK when e1 <= 0 (e1 >= e2 its
-    principal strains), and the major direction n1 = (cos, sin) in the triangle's rest
-    frame."""
+    """(regime, e1, cos, sin) of a triangle's strain (e00, e11, e01) (-), tensor shear e01:
+    TAUT when e2 >= -nu e1, WRINKLED when e1 > 0 > e2 + nu e1, SLACK when e1 <= 0 (e1 >= e2
+    its principal strains), and the major direction n1 = (cos, sin) in the triangle's rest
+    frame (1, 0 unless wrinkled)."""
     a, d, b = value[0], value[1], value[2]
     mean = 0.5 * (a + d)
     rad = np.sqrt(0.25 * (a - d) * (a - d) + b * b)
     e1 = mean + rad
     e2 = mean - rad
     if e1 <= 0.0:
-        return SLACK, 1.0, 0.0
+        return SLACK, e1, 1.0, 0.0
     if e2 < -nu * e1:
         theta = 0.5 * np.arctan2(2.0 * b, a - d)
-        return WRINKLED, np.cos(theta), np.sin(theta)
-    return TAUT, 1.0, 0.0
+        return WRINKLED, e1, np.cos(theta), np.sin(theta)
+    return TAUT, e1, 1.0, 0.0
 
 
 @njit(**JIT, inline="always")
@@ -154,19 +154,12 @@ def relax_strain(value, nu):
     triangle as one uniaxial constraint (:func:`_uniaxial_block`) and a slack one with zero
     strain (:func:`membrane_sweep`); this function gives the energy
     (:func:`membrane_energy`)."""
-    a, d, b = value[0], value[1], value[2]
-    mean = 0.5 * (a + d)
-    rad = np.sqrt(0.25 * (a - d) * (a - d) + b * b)
-    e1 = mean + rad
-    e2 = mean - rad
-    if e1 <= 0.0:
+    regime, e1, c, s = tension_field_regime(value, nu)
+    if regime == SLACK:
         value[0] = 0.0
         value[1] = 0.0
         value[2] = 0.0
-    elif e2 < -nu * e1:
-        theta = 0.5 * np.arctan2(2.0 * b, a - d)
-        c = np.cos(theta)
-        s = np.sin(theta)
+    elif regime == WRINKLED:
         value[0] = e1 * (c * c - nu * s * s)
         value[1] = e1 * (s * s - nu * c * c)
         value[2] = e1 * (1.0 + nu) * c * s
@@ -235,7 +228,7 @@ def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt
         s0, s1, cos01 = _triangle_strain(x, a, b, c, d, f0, f1, value)
         regime, cn, sn = TAUT, 1.0, 0.0
         if relax and not apply_only:
-            regime, cn, sn = tension_field_regime(value, nu)
+            regime, _, cn, sn = tension_field_regime(value, nu)
             if regime == SLACK:
                 value[0] = 0.0
                 value[1] = 0.0
