@@ -2,6 +2,7 @@
 against the added-mass bound, the explicit scheme, Aitken and IQN-ILS.
 
     python benchmarks/diaphragm_stability.py [--omegas 0.005 0.01 ...] [--windows 3]
+                                             [--mixings 0.3 0.1 0.03]
 
 The case: the bundled ``diaphragm-fill`` (Table 4.1 diaphragm, N = 14, 16^3 cells, windows of
 2 ms, the port flow ramping up) for its first ``--windows`` windows, run with each scheme.
@@ -18,7 +19,8 @@ Measured: for each omega, whether every window converges within ``--max-iteratio
 mean iterations), or the last pressure residual stays below 1 (not converged: slow), or not
 (diverged); the largest converging and smallest diverging omega; the explicit scheme over
 ``--explicit-windows`` windows (its largest node speed against the implicit run's); Aitken and
-IQN-ILS iterations per window.
+IQN-ILS iterations per window, and IQN-ILS with each ``--mixings`` beta (``coupling.mixing``:
+the step outside the secants' span relaxed by beta instead of taken whole).
 Writes ``benchmarks/output/diaphragm_stability.json`` and ``.png``; prints one JSON object.
 Default run: about 1 min on 2 cores.
 """
@@ -99,6 +101,10 @@ def plot(result: dict, path: Path) -> None:
         if r["converged"]:
             ax.axhline(r["mean_iterations"], color=color, lw=1,
                        label=f"{name}: {r['mean_iterations']:.1f} iterations per window")
+    for r, style in zip(result["iqn-ils mixing"], (":", "-.", (0, (1, 3)), (0, (5, 5)))):
+        if r["converged"]:
+            ax.axhline(r["mean_iterations"], color="tab:purple", lw=1, ls=style,
+                       label=f"iqn-ils, mixing {r['mixing']:g}: {r['mean_iterations']:.1f}")
     ax.set_xscale("log")
     ax.set_xlabel("constant under-relaxation omega")
     ax.set_ylabel("mean iterations per window\n(square: not converged, x: diverged)")
@@ -116,6 +122,7 @@ def main(argv=None) -> int:
     parser.add_argument("--windows", type=int, default=3)
     parser.add_argument("--max-iterations", type=int, default=300)
     parser.add_argument("--explicit-windows", type=int, default=25)
+    parser.add_argument("--mixings", type=float, nargs="*", default=[0.3, 0.1, 0.03])
     args = parser.parse_args(argv)
     logging.getLogger().setLevel(logging.ERROR)
     common = dict(max_iterations=args.max_iterations, on_max_iterations="error")
@@ -135,6 +142,9 @@ def main(argv=None) -> int:
                                          if stable else None)
     for name in ("aitken", "iqn-ils"):
         result[name] = run_case(dict(common, acceleration=name), args.windows)
+    result["iqn-ils mixing"] = [
+        dict(mixing=beta, **run_case(dict(common, acceleration="iqn-ils", mixing=beta),
+                                     args.windows)) for beta in args.mixings]
     result["explicit"] = run_case(dict(scheme="explicit"), args.explicit_windows)
     # the explicit scheme "converges" by construction (one pass per window): it fails by
     # growth, measured as its largest node speed over the implicit run's

@@ -10,6 +10,8 @@ stretch of simulated time.  At 0.1 the liquid is a lens 2.6 cells deep under the
 the rest of the sheet lies on the tank wall.  The ``from 0.5`` cases start the same opening
 from half full, as the bundled scene does, and run it past the scene's 0.087 s, with its own
 two-ring rim (``clamped``) and with the thesis rim, to show how far the opening holds there.
+The ``mixing 0.1`` cases relax IQN-ILS's step outside its secants' span by 0.1
+(``coupling.mixing``), some without reused secants (``no reuse``, ``coupling.reuse = 0``).
 Reported per case: windows done, coupling iterations per window, windows accepted unconverged
 or redone explicitly, how the run ended (``failure``: '' when it reached its end time), whether
 it held (reached its end with at most 2 % of its windows unconverged), the static start's
@@ -23,7 +25,7 @@ the inertial ones the scene's coupling (IQN-ILS, 100 iterations, a stalled windo
 the quasi-static ones the thesis fill's.  Writes
 ``benchmarks/output/valve_open_low_fill.json`` and ``valve_open_low_fill.png`` (each case by
 flow and window, marked by its outcome, and how far each ``from 0.5`` case ran).  Prints one
-JSON object; about 20 min.
+JSON object; about 30 min.
 """
 from __future__ import annotations
 
@@ -70,6 +72,16 @@ CASES = {
         changes={"coupling": dict(reuse=0)}),
     "from 0.5, simply-supported, 1e-2, 1 ms": dict(flow=1e-2, window=1e-3, end_time=0.2,
                                                    start_fill=0.5),
+    "1e-2, 1 ms, mixing 0.1, no reuse": dict(
+        flow=1e-2, window=1e-3, end_time=0.02, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+    "3e-3, 1 ms, mixing 0.1, no reuse": dict(
+        flow=3e-3, window=1e-3, end_time=0.05, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+    "from 0.5, clamped, 1e-2, 1 ms, mixing 0.1": dict(
+        flow=1e-2, window=1e-3, end_time=0.2, start_fill=0.5, support="clamped",
+        changes={"coupling": dict(mixing=0.1)}),
+    "from 0.5, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse": dict(
+        flow=1e-2, window=1e-3, end_time=0.2, start_fill=0.5,
+        changes={"coupling": dict(mixing=0.1, reuse=0)}),
 }
 """name -> flow (m^3/s), window (s, inertial), end_time (s), scheme, start_fill (tank
 fraction, START_FILL when not given), support (the thesis rim when not given), other keys."""

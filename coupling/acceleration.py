@@ -16,6 +16,12 @@ vector (the accelerated fields concatenated, each scaled by the scheme).
   newest, most local secant. Columns whose QR diagonal falls below ``filter_limit`` times their
   norm are dropped (QR2 filter, Haelterman et al. 2016). The first iteration of the first window
   (or when no column is left) is a constant relaxation with ``initial_relaxation``.
+  ``mixing`` beta < 1 relaxes the part of the residual the secants do not span:
+  x+ = x + (W - V) a + beta (r + V a), the multisecant update with the initial inverse
+  Jacobian -beta I (Anderson mixing with damping beta; beta = 1 is the update above, in which
+  that part takes a full Gauss-Seidel step). Where the liquid's added mass makes the full step
+  grow a direction tenfold or more, beta of the first relaxation keeps the unexplored
+  directions from blowing up between secants.
 * ``iqn-imvj``: multi-vector quasi-Newton (Lindner, Mehl, Neumann & Uekermann 2015): the same
   secants, but the inverse Jacobian J (maps residual changes to output changes) is the least
   change from the previous window's J_prev that meets them,
@@ -49,7 +55,8 @@ class AccelerationSettings:
     relaxation : constant omega (``constant``); initial_relaxation : first omega of a window
     (``aitken``) or of the first iteration (``iqn-ils``); reuse : past windows kept
     (``iqn-ils``); filter_limit : QR2 filter threshold (``iqn-ils``); max_columns : cap on
-    secant columns (``iqn-ils``).
+    secant columns (``iqn-ils``); mixing : relaxation of the residual outside the secants'
+    span (``iqn-ils``, 1 as published).
     """
 
     relaxation: float = 0.5
@@ -57,6 +64,11 @@ class AccelerationSettings:
     reuse: int = 0
     filter_limit: float = 1e-8
     max_columns: int = 100
+    mixing: float = 1.0
+
+    def __post_init__(self):
+        if not 0.0 < self.mixing <= 1.0:
+            raise ValueError(f"mixing must be in (0, 1], got {self.mixing!r}")
 
 
 class Acceleration:
@@ -178,7 +190,9 @@ class IQNILS(Acceleration):
         q, rr = np.linalg.qr(V)
         alpha = np.linalg.solve(rr, -(q.T @ r))
         self.last_relaxation = float("nan")
-        return x_tilde + W @ alpha
+        if self.s.mixing == 1.0:
+            return x_tilde + W @ alpha
+        return x + (W - V) @ alpha + self.s.mixing * (r + V @ alpha)
 
 
 def _qr2_filter(V: np.ndarray, limit: float) -> np.ndarray:

@@ -191,6 +191,9 @@ COUPLING = Table({
     "reuse": Key(int, 8, lambda v: 0 <= v <= 100, "0..100", "IQN past windows reused"),
     "filter_limit": Key(float, 1e-2, lambda v: 0 < v < 1, "0 < value < 1", "IQN QR2 filter"),
     "max_columns": Key(int, 100, lambda v: v >= 1, ">= 1", "IQN secant columns at most"),
+    "mixing": Key(float, 1.0, lambda v: 0 < v <= 1, "0 < value <= 1",
+                  "IQN-ILS: relaxation of the residual outside the secants' span (Anderson's "
+                  "beta; 1: IQN-ILS as published; README, 'Mixing')"),
     "pressure_tolerance": Key(float, 1e-4, lambda v: 0 < v < 1, "0 < value < 1",
                               "relative change of the interface pressure per iteration at "
                               "convergence"),
@@ -216,7 +219,8 @@ def coupling_settings(c: dict) -> CouplingSettings:
         scheme=c["scheme"], acceleration=c["acceleration"],
         acceleration_settings=AccelerationSettings(
             relaxation=c["relaxation"], initial_relaxation=c["initial_relaxation"],
-            reuse=c["reuse"], filter_limit=c["filter_limit"], max_columns=c["max_columns"]),
+            reuse=c["reuse"], filter_limit=c["filter_limit"], max_columns=c["max_columns"],
+            mixing=c["mixing"]),
         measures=[ConvergenceMeasure(PRESSURE, "relative", c["pressure_tolerance"]),
                   ConvergenceMeasure(POINTS, "relative", c["position_tolerance"])],
         max_iterations=c["max_iterations"], on_max_iterations=c["on_max_iterations"],
