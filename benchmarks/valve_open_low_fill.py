@@ -11,7 +11,8 @@ the rest of the sheet lies on the tank wall.  The ``from 0.5`` cases start the s
 from half full, as the bundled scene does, and run it past the scene's 0.087 s, with its own
 two-ring rim (``clamped``) and with the thesis rim, to show how far the opening holds there.
 The ``mixing 0.1`` cases relax IQN-ILS's step outside its secants' span by 0.1
-(``coupling.mixing``), some without reused secants (``no reuse``, ``coupling.reuse = 0``).
+(``coupling.mixing``), some without reused secants (``no reuse``, ``coupling.reuse = 0``);
+the one that runs from half full to 0.9 (``LONG_CASES``) runs only when named.
 Reported per case: windows done, coupling iterations per window, windows accepted unconverged
 or redone explicitly, how the run ended (``failure``: '' when it reached its end time), whether
 it held (reached its end with at most 2 % of its windows unconverged), the static start's
@@ -74,6 +75,15 @@ CASES = {
                                                    start_fill=0.5),
     "1e-2, 1 ms, mixing 0.1, no reuse": dict(
         flow=1e-2, window=1e-3, end_time=0.02, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+    "1e-3, 20 ms": dict(flow=1e-3, window=2e-2, end_time=1.0),
+    "1e-3, 20 ms, no reuse": dict(flow=1e-3, window=2e-2, end_time=1.0,
+                                  changes={"coupling": dict(reuse=0)}),
+    "1e-3, 10 ms, mixing 0.1, no reuse": dict(
+        flow=1e-3, window=1e-2, end_time=1.0, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+    "1e-3, 20 ms, mixing 0.1, no reuse": dict(
+        flow=1e-3, window=2e-2, end_time=1.0, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+    "1e-3, 50 ms, mixing 0.1, no reuse": dict(
+        flow=1e-3, window=5e-2, end_time=1.0, changes={"coupling": dict(mixing=0.1, reuse=0)}),
     "3e-3, 1 ms, mixing 0.1, no reuse": dict(
         flow=3e-3, window=1e-3, end_time=0.05, changes={"coupling": dict(mixing=0.1, reuse=0)}),
     "from 0.5, clamped, 1e-2, 1 ms, mixing 0.1": dict(
@@ -82,9 +92,14 @@ CASES = {
     "from 0.5, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse": dict(
         flow=1e-2, window=1e-3, end_time=0.2, start_fill=0.5,
         changes={"coupling": dict(mixing=0.1, reuse=0)}),
+    "from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse": dict(
+        flow=1e-2, window=1e-3, end_time=1.5518, start_fill=0.5,
+        changes={"coupling": dict(mixing=0.1, reuse=0)}),
 }
 """name -> flow (m^3/s), window (s, inertial), end_time (s), scheme, start_fill (tank
 fraction, START_FILL when not given), support (the thesis rim when not given), other keys."""
+LONG_CASES = ("from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse",)
+"""Cases run only when named in ``--cases`` (the whole fill from half full: about 18 min)."""
 
 
 def run_case(flow: float, end_time: float, window: float = 1e-3, scheme: str = "euler",
@@ -157,7 +172,8 @@ def plot(runs: dict):
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
+    parser.add_argument("--cases", nargs="+", choices=list(CASES),
+                        default=[name for name in CASES if name not in LONG_CASES])
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.ERROR)
     runs = {name: run_case(**CASES[name]) for name in args.cases}

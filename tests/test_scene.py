@@ -40,6 +40,7 @@ def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
     ("[port]\nramp_time = 0.0", "port.ramp_time", "> 0 s"),
     ("[coupling]\nacceleration = 'newton'", "coupling.acceleration", "'iqn-ils'"),
     ("[coupling]\non_max_iterations = 'ignore'", "coupling.on_max_iterations", "'accept'"),
+    ("[coupling]\nmixing = 0.0", "coupling.mixing", "0 < value <= 1"),
     ("[dynamics]\nstart_fill = 1.0", "dynamics.start_fill", "0 < value < 1"),
     ("[fluid]\ncells = 4", "fluid.cells", "8..128"),
     ("[scene]\nprocedure = 'coupled-fill'\n[structure]\nmodel = 'shell'", "structure.model",
@@ -105,6 +106,22 @@ def test_thesis_fill_and_drain_span_tank_fraction_0_1_to_0_9(name):
     flow, ramp = setup.scene["port"]["flow"], setup.scene["port"]["ramp_time"]
     end_fill = dyn["start_fill"] + flow * (dyn["end_time"] - ramp / 2) / tank
     assert end_fill == pytest.approx(0.9 if flow > 0 else 0.1, abs=1e-6)
+
+
+def test_valve_fill_spans_0_1_to_0_9_with_mixing_in_its_coupling():
+    """The valve fill (README, 'With mixing: the valve fill to completion'): its windows end
+    at or past tank fraction 0.9, within one window, and its coupling carries mixing."""
+    from fsi.procedures.coupled import coupling_settings
+
+    setup = build(load_scene("valve-fill"))
+    dyn, port = setup.scene["dynamics"], setup.scene["port"]
+    tank = 4.0 / 3.0 * 3.141592653589793 * setup.model.radius**3
+    end_fill = dyn["start_fill"] + port["flow"] * (dyn["end_time"] - port["ramp_time"] / 2) / tank
+    assert 0.9 <= end_fill < 0.9 + port["flow"] * dyn["window"] / tank
+    settings = coupling_settings(setup.scene["coupling"])
+    assert settings.acceleration == "iqn-ils"
+    assert settings.acceleration_settings.mixing == 0.1
+    assert settings.acceleration_settings.reuse == 0
 
 
 def test_with_keys_changes_a_copy_and_checks_each_value():
