@@ -99,9 +99,17 @@ def leg(result: dict, static_frames: dict) -> dict:
                 failure=a["failure"], volume=bookkeeping(result))
 
 
-def plot(out: dict):
+LEGS = (("fill", "o-"), ("drain", "s--"))
+TITLE = "thesis-fill and thesis-drain (2e-5 m^3/s, N = 14, 16^3) against the static model"
+
+
+def plot(out: dict, legs=LEGS, title: str = TITLE):
+    """Eqn 6.1 and the level difference by tank fraction for each (name, line style) in
+    ``legs`` present in ``out``, against both static references."""
     fig, axes = plt.subplots(1, 2, figsize=(12, 4))
-    for name, style in (("fill", "o-"), ("drain", "s--")):
+    for name, style in legs:
+        if name not in out:
+            continue
         for ref, colour in (("sweep", "tab:red"), ("same_fold", "tab:blue")):
             rows = out[name][ref]
             f = [r["fill"] for r in rows]
@@ -115,9 +123,17 @@ def plot(out: dict):
         ax.set_xlabel("tank fraction V / (4/3 pi R^3)")
         ax.grid(alpha=0.3, which="both")
     axes[0].legend(fontsize=7)
-    fig.suptitle("thesis-fill and thesis-drain (2e-5 m^3/s, N = 14, 16^3) against the static "
-                 "model")
+    fig.suptitle(title)
     return fig
+
+
+def write(name: str, out: dict, fig) -> None:
+    """``OUTPUT/name.json`` and ``name.png`` (``fig``, closed), and ``out`` printed as one
+    JSON object."""
+    (OUTPUT / f"{name}.json").write_text(json.dumps(out, indent=1))
+    fig.savefig(OUTPUT / f"{name}.png", dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    print(json.dumps(out))
 
 
 def main(argv=None) -> int:
@@ -135,11 +151,7 @@ def main(argv=None) -> int:
     out = dict(fill=leg(fill, static.groups["frames"]),
                drain=leg(drain, static.groups["drain"]),
                static_sweep_seconds=static_seconds)
-    (OUTPUT / "thesis_fill_drain.json").write_text(json.dumps(out, indent=1))
-    fig = plot(out)
-    fig.savefig(OUTPUT / "thesis_fill_drain.png", dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    print(json.dumps(out))
+    write("thesis_fill_drain", out, plot(out))
     return 0
 
 

@@ -17,43 +17,18 @@ Writes ``benchmarks/output/valve_fill.json`` and ``valve_fill.png``; prints one 
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import sys
 import time
 from pathlib import Path
 
-import matplotlib
+from fsi.output import read_result
+from fsi.scene import load_scene
+from thesis_fill_drain import OUTPUT, leg, plot, run_scene, static_sweep, write
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from fsi.output import read_result  # noqa: E402
-from fsi.scene import load_scene  # noqa: E402
-from thesis_fill_drain import OUTPUT, leg, run_scene, static_sweep  # noqa: E402
-
-
-def plot(out: dict):
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4))
-    for name, style in (("valve-fill", "o-"), ("thesis-fill", "s--")):
-        if name not in out:
-            continue
-        for ref, colour in (("sweep", "tab:red"), ("same_fold", "tab:blue")):
-            rows = out[name][ref]
-            f = [r["fill"] for r in rows]
-            axes[0].semilogy(f, [max(r["eqn_6_1"], 1e-6) for r in rows], style, color=colour,
-                             label=f"{name}, against the {ref.replace('_', ' ')}")
-            axes[1].plot(f, [r["level_difference"] for r in rows], style, color=colour,
-                         label=f"{name}, {ref.replace('_', ' ')}")
-    axes[0].set_ylabel("Eqn 6.1 dynamic against static (%)")
-    axes[1].set_ylabel("pressure level, dynamic - static (Pa)")
-    for ax in axes:
-        ax.set_xlabel("tank fraction V / (4/3 pi R^3)")
-        ax.grid(alpha=0.3, which="both")
-    axes[0].legend(fontsize=7)
-    fig.suptitle("valve-fill (1e-3 m^3/s, inertia) and thesis-fill (2e-5 m^3/s) against the "
-                 "static model, N = 14, 16^3")
-    return fig
+LEGS = (("valve-fill", "o-"), ("thesis-fill", "s--"))
+TITLE = ("valve-fill (1e-3 m^3/s, inertia) and thesis-fill (2e-5 m^3/s) against the static "
+         "model, N = 14, 16^3")
 
 
 def main(argv=None) -> int:
@@ -71,11 +46,7 @@ def main(argv=None) -> int:
            "static_sweep_seconds": time.perf_counter() - t0}
     if args.thesis_fill is not None:
         out["thesis-fill"] = leg(read_result(args.thesis_fill), static.groups["frames"])
-    (OUTPUT / "valve_fill.json").write_text(json.dumps(out, indent=1))
-    fig = plot(out)
-    fig.savefig(OUTPUT / "valve_fill.png", dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    print(json.dumps(out))
+    write("valve_fill", out, plot(out, LEGS, TITLE))
     return 0
 
 
