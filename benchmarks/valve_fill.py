@@ -2,11 +2,13 @@
 0.1 -> 0.9, 20 ms windows, IQN-ILS with mixing 0.1) against the static model at every 0.1 of
 tank fraction, beside the thesis's slow fill when its result is given.
 
-    python benchmarks/valve_fill.py [--fill DIR] [--thesis-fill DIR]
+    python benchmarks/valve_fill.py [--fill DIR] [--thesis-fill DIR] [--opening DIR]
 
 ``--fill``: the result folder of ``fsi run valve-fill`` (run here when not given: about
 15 min). ``--thesis-fill``: that of ``fsi run thesis-fill`` (2e-5 m^3/s, quasi-static
-windows), compared the same way when given. The static references and measures are those of
+windows), compared the same way when given; ``--opening``: that of a run that opens the
+valve to 1e-2 m^3/s from half full and fills to 0.9 (README, 'With mixing: the valve fill to
+completion'), compared at the tank fractions it passes (0.5 ... 0.9). The static references and measures are those of
 ``benchmarks/thesis_fill_drain.py``: the volume sweep of the same membrane model and grid,
 and the static equilibrium sought from each frame's shape (the same fold state); Eqn 6.1 (%),
 pressure level dynamic - static (Pa), liquid centre of mass distance (mm), and the volume
@@ -26,15 +28,16 @@ from fsi.output import read_result
 from fsi.scene import load_scene
 from thesis_fill_drain import OUTPUT, leg, plot, run_scene, static_sweep, write
 
-LEGS = (("valve-fill", "o-"), ("thesis-fill", "s--"))
-TITLE = ("valve-fill (1e-3 m^3/s, inertia) and thesis-fill (2e-5 m^3/s) against the static "
-         "model, N = 14, 16^3")
+LEGS = (("valve-fill", "o-"), ("thesis-fill", "s--"), ("opening", "^-."))
+TITLE = ("valve-fill (1e-3 m^3/s, inertia), thesis-fill (2e-5 m^3/s) and the opening from "
+         "half full (1e-2 m^3/s) against the static model, N = 14, 16^3")
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fill", type=Path)
     parser.add_argument("--thesis-fill", type=Path)
+    parser.add_argument("--opening", type=Path)
     args = parser.parse_args(argv)
     logging.getLogger().setLevel(logging.ERROR)
     OUTPUT.mkdir(exist_ok=True)
@@ -46,6 +49,11 @@ def main(argv=None) -> int:
            "static_sweep_seconds": time.perf_counter() - t0}
     if args.thesis_fill is not None:
         out["thesis-fill"] = leg(read_result(args.thesis_fill), static.groups["frames"])
+    if args.opening is not None:
+        out["opening"] = leg(read_result(args.opening), static.groups["frames"])
+        passed = [i for i, row in enumerate(out["opening"]["sweep"]) if row["paired"]]
+        for ref in ("sweep", "same_fold"):
+            out["opening"][ref] = [out["opening"][ref][i] for i in passed]
     write("valve_fill", out, plot(out, LEGS, TITLE))
     return 0
 
