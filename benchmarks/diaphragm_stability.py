@@ -22,7 +22,7 @@ mean iterations), or the last pressure residual stays below 1 (not converged: sl
 IQN-ILS iterations per window, and IQN-ILS with each ``--mixings`` beta (``coupling.mixing``:
 the step outside the secants' span relaxed by beta instead of taken whole).
 Writes ``benchmarks/output/diaphragm_stability.json`` and ``.png``; prints one JSON object.
-Default run: about 1 min on 2 cores.
+Default run: about 2 min on 2 cores.
 """
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ vector (the accelerated fields concatenated, each scaled by the scheme).
   x+ = x + (W - V) a + beta (r + V a), the multisecant update with the initial inverse
   Jacobian -beta I (Anderson mixing with damping beta; beta = 1 is the update above, in which
   that part takes a full Gauss-Seidel step). Where the liquid's added mass makes the full step
-  grow a direction tenfold or more, beta of the first relaxation keeps the unexplored
+  grow a direction tenfold or more, beta near the first relaxation keeps the unexplored
   directions from blowing up between secants.
 * ``iqn-imvj``: multi-vector quasi-Newton (Lindner, Mehl, Neumann & Uekermann 2015): the same
   secants, but the inverse Jacobian J (maps residual changes to output changes) is the least
