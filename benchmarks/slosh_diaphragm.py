@@ -87,6 +87,7 @@ CASES = {
     "tension field": TENSION_FIELD,
     "tension field, fill 0.3": TENSION_FIELD + [("slosh", "fill", lambda v: 0.3)],
     "tension field, fill 0.7": TENSION_FIELD + [("slosh", "fill", lambda v: 0.7)],
+    "tension field, mixing 0.1": TENSION_FIELD + [("coupling", "mixing", lambda v: 0.1)],
     "sweeps 1": [("slosh", "constraint_sweeps", lambda v: 1)],
     "sweeps 16": [("slosh", "constraint_sweeps", lambda v: 16)],
     "sweeps 32": [("slosh", "constraint_sweeps", lambda v: 32)],
