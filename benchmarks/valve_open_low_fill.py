@@ -51,6 +51,8 @@ from fsi.static_vs_dynamic import TIME_SCHEME_KEYS  # noqa: E402
 
 OUTPUT = Path(__file__).resolve().parent / "output"
 START_FILL = 0.1
+MIXING_NO_REUSE = {"coupling": dict(mixing=0.1, reuse=0)}
+"""The keys of the ``mixing 0.1, no reuse`` cases (README, 'With mixing')."""
 END_FILL = 0.9
 CASES = {
     "1e-3, 1 ms": dict(flow=1e-3, window=1e-3, end_time=0.1),
@@ -75,30 +77,30 @@ CASES = {
     "from 0.5, simply-supported, 1e-2, 1 ms": dict(flow=1e-2, window=1e-3, end_time=0.2,
                                                    start_fill=0.5),
     "1e-2, 1 ms, mixing 0.1, no reuse": dict(
-        flow=1e-2, window=1e-3, end_time=0.02, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+        flow=1e-2, window=1e-3, end_time=0.02, changes=MIXING_NO_REUSE),
     "1e-3, 20 ms": dict(flow=1e-3, window=2e-2, end_time=1.0),
     "1e-3, 20 ms, no reuse": dict(flow=1e-3, window=2e-2, end_time=1.0,
                                   changes={"coupling": dict(reuse=0)}),
     "1e-3, 10 ms, mixing 0.1, no reuse": dict(
-        flow=1e-3, window=1e-2, end_time=1.0, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+        flow=1e-3, window=1e-2, end_time=1.0, changes=MIXING_NO_REUSE),
     "1e-3, 20 ms, mixing 0.1, no reuse": dict(
-        flow=1e-3, window=2e-2, end_time=1.0, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+        flow=1e-3, window=2e-2, end_time=1.0, changes=MIXING_NO_REUSE),
     "1e-3, 50 ms, mixing 0.1, no reuse": dict(
-        flow=1e-3, window=5e-2, end_time=1.0, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+        flow=1e-3, window=5e-2, end_time=1.0, changes=MIXING_NO_REUSE),
     "3e-3, 1 ms, mixing 0.1, no reuse": dict(
-        flow=3e-3, window=1e-3, end_time=0.05, changes={"coupling": dict(mixing=0.1, reuse=0)}),
+        flow=3e-3, window=1e-3, end_time=0.05, changes=MIXING_NO_REUSE),
     "from 0.5, clamped, 1e-2, 1 ms, mixing 0.1": dict(
         flow=1e-2, window=1e-3, end_time=0.2, start_fill=0.5, support="clamped",
         changes={"coupling": dict(mixing=0.1)}),
     "from 0.5, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse": dict(
         flow=1e-2, window=1e-3, end_time=0.2, start_fill=0.5,
-        changes={"coupling": dict(mixing=0.1, reuse=0)}),
+        changes=MIXING_NO_REUSE),
     "from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse": dict(
         flow=1e-2, window=1e-3, end_time=1.5518, start_fill=0.5,
-        changes={"coupling": dict(mixing=0.1, reuse=0)}),
+        changes=MIXING_NO_REUSE),
     "drain from 0.9 to 0.1, simply-supported, -1e-3, 20 ms, mixing 0.1, no reuse": dict(
         flow=-1e-3, window=2e-2, end_time=30.86, start_fill=0.9,
-        changes={"coupling": dict(mixing=0.1, reuse=0)}),
+        changes=MIXING_NO_REUSE),
 }
 """name -> flow (m^3/s), window (s, inertial), end_time (s), scheme, start_fill (tank
 fraction, START_FILL when not given), support (the thesis rim when not given), other keys."""
