@@ -10,10 +10,9 @@ windows), compared the same way when given; ``--opening``: that of a run that op
 valve to 1e-2 m^3/s from half full and fills to 0.9 (README, 'With mixing: the valve fill to
 completion'), compared at the tank fractions it passes (0.5 ... 0.9). The static references
 and measures are those of ``benchmarks/thesis_fill_drain.py``: the volume sweep of the same
-membrane model and grid,
-and the static equilibrium sought from each frame's shape (the same fold state); Eqn 6.1 (%),
-pressure level dynamic - static (Pa), liquid centre of mass distance (mm), and the volume
-bookkeeping.
+membrane model and grid, and the static equilibrium sought from each frame's shape (the same
+fold state); Eqn 6.1 (%), pressure level dynamic - static (Pa), liquid centre of mass
+distance (mm), and the volume bookkeeping.
 
 Writes ``benchmarks/output/valve_fill.json`` and ``valve_fill.png``; prints one JSON object.
 """
