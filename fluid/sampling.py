@@ -5,8 +5,23 @@ cells (fraction >= ``min_fraction``) in the block of cells around it, weights
 alpha / (d^2 + h^2). The fit is exact for a linear pressure (hydrostatic or uniformly
 accelerated liquid) wherever the block has dim + 1 independent liquid cells; otherwise the
 weighted mean is used.
+
+Which cells a coupled interface's pressure is fitted from (:data:`CELL_WEIGHTS`, the scene
+key ``fluid.pressure_cells``): a cell weight w (n_cells,) from the liquid fraction now and at
+the coupling window's start,
+
+* ``iteration``: w = alpha where alpha >= MIN_FRACTION, else 0, chosen anew at every call;
+* ``window``: the cells with alpha >= MIN_FRACTION at the window's start, each weighted by its
+  fraction now and faded linearly to 0 as that falls from MIN_FRACTION to MIN_FRACTION / 2
+  (a cell drying within the window; a cell's pressure is barely constrained below that).
+  Within a window's coupling iterations the map from the interface to the pressure is then
+  continuous: under ``iteration`` a cell whose fraction sits at the threshold enters and
+  leaves the fit from one iteration to the next, the nodes around it jump by kilopascals,
+  and the iteration stalls on the jump (README, 'The pressure cells of a window').
 """
 from __future__ import annotations
+
+from typing import Callable
 
 import numpy as np
 from numba import njit
@@ -89,13 +104,49 @@ def _fit(points, lower, h, values, weights, reach):
     return out
 
 
+CELL_WEIGHTS: dict[str, Callable] = {}
+"""``fluid.pressure_cells`` name -> weight(cell_fraction, start_fraction) -> (n_cells,) -:
+the cells a pressure is fitted from and their weights (module doc); ``start_fraction`` is
+the liquid fraction (n_cells,) at the coupling window's start, None outside a window."""
+
+
+def register_cell_weight(name: str):
+    """Decorator: register a cell weight under ``name``."""
+    def register(func):
+        CELL_WEIGHTS[name] = func
+        return func
+    return register
+
+
+@register_cell_weight("iteration")
+def threshold_weight(cell_fraction: np.ndarray, start_fraction: np.ndarray | None = None,
+                     min_fraction: float = MIN_FRACTION) -> np.ndarray:
+    """alpha where alpha >= ``min_fraction``, else 0 (n_cells,)."""
+    return np.where(cell_fraction >= min_fraction, cell_fraction, 0)
+
+
+@register_cell_weight("window")
+def window_weight(cell_fraction: np.ndarray, start_fraction: np.ndarray | None) -> np.ndarray:
+    """The cells with alpha >= MIN_FRACTION at the window's start, weighted by alpha now
+    times min(1, (alpha - MIN_FRACTION / 2) / (MIN_FRACTION / 2)) (0 below MIN_FRACTION / 2);
+    :func:`threshold_weight` outside a window (no ``start_fraction``)."""
+    if start_fraction is None:
+        return threshold_weight(cell_fraction)
+    floor = 0.5 * MIN_FRACTION
+    fade = np.clip((cell_fraction - floor) / floor, 0.0, 1.0)
+    return np.where(start_fraction >= MIN_FRACTION, cell_fraction * fade, 0.0)
+
+
 def sample_cells(grid: TankGrid, cell_values: np.ndarray, cell_fraction: np.ndarray,
-                 points: np.ndarray, min_fraction: float = MIN_FRACTION) -> np.ndarray:
+                 points: np.ndarray, min_fraction: float = MIN_FRACTION,
+                 cell_weight: np.ndarray | None = None) -> np.ndarray:
     """Values (n,) at ``points`` (n, 3) m of a cell field (n_cells,), from liquid cells only.
 
     On an axisymmetric grid a point (x, y, z) is sampled at (hypot(x, y), z). A point with no
     liquid cell within ``SAMPLE_REACH_CELLS`` is sampled from a block twice as wide, then
-    again, up to ``MAX_REACH_CELLS``; NaN where none lies within that."""
+    again, up to ``MAX_REACH_CELLS``; NaN where none lies within that. ``cell_weight``
+    (n_cells,) -, where given, is each cell's weight in place of
+    ``threshold_weight(cell_fraction, min_fraction=min_fraction)`` (0: not used)."""
     points = np.asarray(points, dtype=float)
     if grid.axisymmetric:
         coords = np.stack([np.hypot(points[:, 0], points[:, 1]), points[:, 2]], axis=1)
@@ -104,7 +155,9 @@ def sample_cells(grid: TankGrid, cell_values: np.ndarray, cell_fraction: np.ndar
     lattice_values = np.empty(int(np.prod(grid.shape)))
     lattice_values[grid.cell_lattice] = cell_values
     lattice_weights = np.empty_like(lattice_values)
-    lattice_weights[grid.cell_lattice] = np.where(cell_fraction >= min_fraction, cell_fraction, 0)
+    lattice_weights[grid.cell_lattice] = (
+        threshold_weight(cell_fraction, min_fraction=min_fraction) if cell_weight is None
+        else cell_weight)
     shape = tuple(grid.shape) + ((1,) if grid.dim == 2 else ())
     coords = np.ascontiguousarray(coords)
     lower = np.asarray(grid.lower, dtype=float)

@@ -88,12 +88,16 @@ class FluidSolver:
         self.last_report = report
         return report
 
-    def pressure_at(self, points: np.ndarray, level: float = 0.0) -> np.ndarray:
+    def pressure_at(self, points: np.ndarray, level: float = 0.0,
+                    cell_weight: np.ndarray | None = None) -> np.ndarray:
         """Total gauge pressure (n,) Pa at ``points`` (n, 3) m, from the liquid cells next to
-        them: reduced pressure + rho b . x + ``level``."""
+        them: reduced pressure + rho b . x + ``level``; ``cell_weight`` (n_cells,): the cells
+        fitted and their weights (:data:`fluid.sampling.CELL_WEIGHTS`; default: the liquid
+        fraction where it is at least :data:`fluid.sampling.MIN_FRACTION`)."""
         points = np.asarray(points, dtype=float)
         reduced = sample_cells(self.model.grid, self.state.pressure,
-                               self.state.geometry.cell_fraction, points)
+                               self.state.geometry.cell_fraction, points,
+                               cell_weight=cell_weight)
         return reduced + self.model.body_potential(points, self.state.time) + level
 
     def velocity_at(self, points: np.ndarray) -> np.ndarray:
@@ -117,11 +121,13 @@ class FluidSolver:
             out[:] = np.stack(parts, axis=1)
         return np.nan_to_num(out)
 
-    def interface_pressure(self, level: float = 0.0) -> np.ndarray:
-        """Pressure (n,) Pa at the current interface points (liquid side)."""
+    def interface_pressure(self, level: float = 0.0,
+                           cell_weight: np.ndarray | None = None) -> np.ndarray:
+        """Pressure (n,) Pa at the current interface points (liquid side), fitted from the
+        cells of ``cell_weight`` (as :meth:`pressure_at`)."""
         if self.interface is None:
             raise ValueError("this fluid has no interface")
-        return self.pressure_at(self.interface.points, level)
+        return self.pressure_at(self.interface.points, level, cell_weight)
 
     def store_checkpoint(self):
         """Remember the current state and return it (states are immutable: a reference)."""

@@ -17,6 +17,7 @@ from typing import Callable
 import numpy as np
 
 from fluid.interface import Interface, is_closed
+from fluid.sampling import CELL_WEIGHTS
 from fluid.solver import FluidSolver
 from structure.load import Load
 from structure.model import MembraneState
@@ -40,29 +41,39 @@ class FluidParticipant:
     :mod:`fluid.model`). ``surface``: how the partner's points and velocities become the
     fluid's interface (:class:`MembraneSurface`; default: the solver's interface moved to
     them); pressure is returned at the partner's points only, by ``pressure_map``
-    (``map(solver, surface, level) -> (n,) Pa``, :data:`fsi.pressure_maps.PRESSURE_MAPS`;
-    default: the fit at each node)."""
+    (``map(solver, surface, level, cell_weight) -> (n,) Pa``,
+    :data:`fsi.pressure_maps.PRESSURE_MAPS`; default: the fit at each node), from the cells
+    that ``pressure_cells`` picks (a name in :data:`fluid.sampling.CELL_WEIGHTS`: chosen at
+    every iteration, or at the window's start, when :meth:`store_checkpoint` records the
+    liquid fraction)."""
 
     name = "fluid"
     write_fields = (PRESSURE,)
 
     def __init__(self, solver: FluidSolver, level: float | Callable[[float], float] = 0.0,
                  surface: "MembraneSurface | None" = None,
-                 pressure_map: Callable | None = None):
+                 pressure_map: Callable | None = None, pressure_cells: str = "iteration"):
         if solver.interface is None:
             raise ValueError("a coupled fluid needs an interface")
+        if pressure_cells not in CELL_WEIGHTS:
+            raise ValueError(f"unknown pressure cells {pressure_cells!r}; allowed: "
+                             f"{sorted(CELL_WEIGHTS)}")
         self.solver = solver
         self.level = level
         self.surface = surface
         self.pressure_map = pressure_map if pressure_map is not None else node_fit
+        self.cell_weight = CELL_WEIGHTS[pressure_cells]
+        self.start_fraction = None  # (n_cells,) liquid fraction at the window's start
 
     def _level(self, time: float) -> float:
         return float(self.level(time)) if callable(self.level) else float(self.level)
 
     def _pressure(self, time: float) -> np.ndarray:
+        weight = self.cell_weight(self.solver.state.geometry.cell_fraction,
+                                  self.start_fraction)
         if self.surface is None:
-            return self.solver.interface_pressure(self._level(time))
-        return self.pressure_map(self.solver, self.surface, self._level(time))
+            return self.solver.interface_pressure(self._level(time), weight)
+        return self.pressure_map(self.solver, self.surface, self._level(time), weight)
 
     def initial_data(self) -> dict:
         return {PRESSURE: self._pressure(self.solver.state.time)}
@@ -78,6 +89,7 @@ class FluidParticipant:
         return {PRESSURE: self._pressure(time + dt)}
 
     def store_checkpoint(self):
+        self.start_fraction = self.solver.state.geometry.cell_fraction
         return self.solver.store_checkpoint()
 
     def restore_checkpoint(self, checkpoint) -> None:

@@ -4,9 +4,11 @@ The membrane takes a pressure p_i per node and applies it on the node's area vec
 F_i = p_i a_i with a_i = dV/dx_i = sum over its triangles of A n / 3 (:mod:`structure.load`).
 The liquid has one pressure per cut cell. A map turns the cells' pressure into the (n,) Pa
 the membrane reads, without the uniform level's part that the caller adds. Each is a
-function ``map(solver, surface, level) -> (n,) Pa`` of the fluid solver
+function ``map(solver, surface, level, cell_weight=None) -> (n,) Pa`` of the fluid solver
 (:class:`fluid.solver.FluidSolver`, its interface the membrane's closed surface) and the
-:class:`fsi.adapters.MembraneSurface`:
+:class:`fsi.adapters.MembraneSurface`, fitting from the cells of ``cell_weight``
+(:data:`fluid.sampling.CELL_WEIGHTS`; None: the liquid fraction where it is at least
+:data:`fluid.sampling.MIN_FRACTION`):
 
 * ``node-fit``: the value at each node of a weighted least-squares plane through the liquid
   cells around it (:func:`fluid.sampling.sample_cells`): exact for a linear pressure,
@@ -19,7 +21,7 @@ function ``map(solver, surface, level) -> (n,) Pa`` of the fluid solver
   constant over the cut cells, plus the body potential rho b . x evaluated at the point):
   the pressure whose work on the sheet is what the cut cells' volume change does in the
   liquid's continuity equation, the conservative side of the pair. A point whose cell holds
-  less liquid than :data:`fluid.sampling.MIN_FRACTION` of it takes the fit instead: such a
+  less liquid than :data:`fluid.sampling.MIN_FRACTION` of it (or no weight) takes the fit instead: such a
   cell's pressure is extrapolated from its neighbours or barely constrained (with every cell
   that holds any liquid taken, the 1 ms BDF2 run of the half-full diaphragm diverged at
   t = 0.29 s).
@@ -39,7 +41,8 @@ from fluid.sampling import MIN_FRACTION
 QUADRATURE_LEVELS = 3
 
 PRESSURE_MAPS: dict[str, Callable] = {}
-"""``fluid.pressure_map`` name -> map(solver, surface, level) -> node pressure (n,) Pa."""
+"""``fluid.pressure_map`` name -> map(solver, surface, level, cell_weight=None) -> node
+pressure (n,) Pa."""
 
 
 def register_pressure_map(name: str):
@@ -96,29 +99,30 @@ def _membrane_triangles(surface) -> np.ndarray:
 
 
 @register_pressure_map("node-fit")
-def node_fit(solver, surface, level: float) -> np.ndarray:
-    return solver.interface_pressure(level)[:surface.n_points]
+def node_fit(solver, surface, level: float, cell_weight=None) -> np.ndarray:
+    return solver.interface_pressure(level, cell_weight)[:surface.n_points]
 
 
 @register_pressure_map("surface-mean")
-def surface_mean(solver, surface, level: float) -> np.ndarray:
+def surface_mean(solver, surface, level: float, cell_weight=None) -> np.ndarray:
     n, triangles = surface.n_points, _membrane_triangles(surface)
     quad, weight = membrane_quadrature(solver.interface.points, triangles, QUADRATURE_LEVELS)
-    return _node_mean(n, triangles, weight, solver.pressure_at(quad, level),
-                      node_fit(solver, surface, level))
+    return _node_mean(n, triangles, weight, solver.pressure_at(quad, level, cell_weight),
+                      node_fit(solver, surface, level, cell_weight))
 
 
 @register_pressure_map("cell-mean")
-def cell_mean(solver, surface, level: float) -> np.ndarray:
+def cell_mean(solver, surface, level: float, cell_weight=None) -> np.ndarray:
     n, triangles = surface.n_points, _membrane_triangles(surface)
     quad, weight = membrane_quadrature(solver.interface.points, triangles, QUADRATURE_LEVELS)
     model, state = solver.model, solver.state
     cell = model.grid.cell_of(quad)
     wet = (cell >= 0)
-    wet[wet] = state.geometry.cell_fraction[cell[wet]] >= MIN_FRACTION
+    wet[wet] = (state.geometry.cell_fraction[cell[wet]] >= MIN_FRACTION if cell_weight is None
+                else cell_weight[cell[wet]] > 0)
     p = np.empty(len(quad))
     p[wet] = (state.pressure[cell[wet]] + model.body_potential(quad[wet], state.time)
               + level)
     if not wet.all():  # a point in a cell with little or no liquid: the fit there
-        p[~wet] = solver.pressure_at(quad[~wet], level)
-    return _node_mean(n, triangles, weight, p, node_fit(solver, surface, level))
+        p[~wet] = solver.pressure_at(quad[~wet], level, cell_weight)
+    return _node_mean(n, triangles, weight, p, node_fit(solver, surface, level, cell_weight))

@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from fluid.sampling import MIN_FRACTION
+from fluid.sampling import CELL_WEIGHTS, MIN_FRACTION, sample_cells, threshold_weight
 from fluid.solver import FluidSolver
 from fluid.tank import sphere_model, tank_grid
 from fsi.adapters import FluidParticipant, MembraneSurface
@@ -145,6 +145,74 @@ def test_the_fluid_participant_sends_what_its_map_gives(linear_field):
     default = FluidParticipant(solver, level=LEVEL, surface=surface)
     assert np.array_equal(default.initial_data()["interface_pressure"],
                           PRESSURE_MAPS["node-fit"](solver, surface, LEVEL))
+
+
+def _a_stencil_cell(solver, surface, inner):
+    """An inner node (1, 3) m and a liquid cell of its sampling block (fraction >= MIN_FRACTION)."""
+    grid, fraction = solver.model.grid, solver.state.geometry.cell_fraction
+    x = solver.interface.points[:surface.n_points][inner]
+    for point in x:
+        near = np.flatnonzero((np.max(np.abs(grid.cell_centre - point), axis=1) <= grid.spacing)
+                              & (fraction >= MIN_FRACTION))
+        if len(near) > 4:
+            return point[None, :], near[0]
+    raise AssertionError("no inner node with a full stencil")
+
+
+def test_window_cells_make_the_fit_continuous_where_a_cell_crosses_the_threshold(linear_field):
+    """A cell of a node's block whose fraction crosses MIN_FRACTION, its pressure off the plane
+    by 5 kPa (a barely wetted cut cell): chosen anew each call the node's value jumps; with
+    the cells of the window's start it moves by what the fraction's change weighs."""
+    solver, surface, _, inner = linear_field
+    grid, start = solver.model.grid, solver.state.geometry.cell_fraction
+    point, cell = _a_stencil_cell(solver, surface, inner)
+    pressure = solver.state.pressure.copy()
+    pressure[cell] += 5000.0
+    values = {}
+    for name, weight in CELL_WEIGHTS.items():
+        for side, alpha in (("below", MIN_FRACTION - 1e-9), ("above", MIN_FRACTION + 1e-9)):
+            fraction = start.copy()
+            fraction[cell] = alpha
+            values[name, side] = sample_cells(grid, pressure, fraction, point,
+                                              cell_weight=weight(fraction, start))[0]
+    assert abs(values["iteration", "above"] - values["iteration", "below"]) > 1.0  # Pa
+    assert abs(values["window", "above"] - values["window", "below"]) < 1e-3  # Pa
+    # faded out below half the threshold: the fit without the cell, as chosen anew
+    fraction = start.copy()
+    fraction[cell] = 0.5 * MIN_FRACTION
+    weight = CELL_WEIGHTS["window"](fraction, start)
+    assert weight[cell] == 0.0
+    assert np.array_equal(weight > 0, threshold_weight(fraction) > 0)
+    # outside a window (no start) and with every fraction as at the start: the threshold's
+    assert np.array_equal(CELL_WEIGHTS["window"](start, None), threshold_weight(start))
+    assert np.array_equal(CELL_WEIGHTS["window"](start, start), threshold_weight(start))
+
+
+def test_the_fluid_participant_fits_from_its_windows_start_cells(linear_field):
+    solver, surface, _, inner = linear_field
+    start_state = solver.state
+    _, cell = _a_stencil_cell(solver, surface, inner)
+    sides = {name: FluidParticipant(solver, level=LEVEL, surface=surface, pressure_cells=name)
+             for name in CELL_WEIGHTS}
+    try:
+        for side in sides.values():
+            side.store_checkpoint()  # the window starts
+        fraction = start_state.geometry.cell_fraction.copy()
+        fraction[cell] = 0.75 * MIN_FRACTION  # the cell dries within the window
+        solver.state = replace(start_state,
+                               geometry=replace(start_state.geometry, cell_fraction=fraction))
+        sent = {name: side.initial_data()["interface_pressure"] for name, side in sides.items()}
+        start = start_state.geometry.cell_fraction
+        for name, weight in CELL_WEIGHTS.items():
+            assert np.array_equal(sent[name], PRESSURE_MAPS["node-fit"](
+                solver, surface, LEVEL, weight(fraction, start))), name
+        # the linear field is fitted exactly either way: the two differ only by round-off
+        assert np.allclose(sent["window"], sent["iteration"], rtol=0, atol=1e-6)
+        assert not np.array_equal(sent["window"], sent["iteration"])
+    finally:
+        solver.state = start_state
+    with pytest.raises(ValueError, match="pressure cells"):
+        FluidParticipant(solver, surface=surface, pressure_cells="every")
 
 
 def test_cell_of_finds_points_and_refuses_the_outside():

@@ -8,10 +8,12 @@ import numpy as np
 from coupling import (ACCELERATIONS, EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES,
                       AccelerationSettings, ConvergenceMeasure, CouplingSettings)
 from fluid.model import FACE_MEMORIES
+from fluid.sampling import CELL_WEIGHTS
+from fluid.solver import FluidSolver
 from fluid.tank import port_stub_volume, tank_spacing
 from structure.volume import liquid_volume
 
-from ..adapters import POINTS, PRESSURE, MembraneSurface
+from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneSurface
 from ..limits import courant_time_step_limit
 from ..models import XPBD_COURANT_FRACTION
 from ..pressure_maps import PRESSURE_MAPS
@@ -147,6 +149,13 @@ FLUID = Table({
                         "weights) or cell-mean (the same mean of each cut cell's own "
                         "pressure, the work of the cut cells' volume change; README, 'Slosh "
                         "with the diaphragm')"),
+    "pressure_cells": Key(str, "iteration", *one_of(sorted(CELL_WEIGHTS)),
+                          "which liquid cells the pressure map fits from: iteration (those "
+                          "holding at least a quarter cell of liquid, chosen anew at every "
+                          "coupling iteration) or window (those holding it at the window's "
+                          "start, faded out below an eighth: the map is then continuous over "
+                          "the window's iterations; README, 'The pressure cells of a "
+                          "window')"),
 })
 """[fluid]: the immersed-boundary liquid (:mod:`fluid`)."""
 
@@ -159,6 +168,13 @@ def fluid_convection(setup) -> bool:
 def fluid_pressure_map(setup):
     """The ``fluid.pressure_map`` function (:data:`fsi.pressure_maps.PRESSURE_MAPS`)."""
     return PRESSURE_MAPS[setup.scene["fluid"]["pressure_map"]]
+
+
+def fluid_participant(setup, fluid: FluidSolver, surface: MembraneSurface) -> FluidParticipant:
+    """The liquid as a coupling participant: its pressure at the membrane's nodes by
+    ``fluid.pressure_map`` from the cells of ``fluid.pressure_cells``."""
+    return FluidParticipant(fluid, surface=surface, pressure_map=fluid_pressure_map(setup),
+                            pressure_cells=setup.scene["fluid"]["pressure_cells"])
 
 
 def membrane_surface(setup, model, fluid_model) -> MembraneSurface:

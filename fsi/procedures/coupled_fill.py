@@ -45,7 +45,7 @@ from ..motion import body_acceleration
 from ..registry import Procedure, register_procedure
 from ..window_control import END_TOLERANCE, WindowController
 from .coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES, check_port,
-                      coupling_settings, fluid_convection, fluid_pressure_map, membrane_surface,
+                      coupling_settings, fluid_convection, fluid_participant, membrane_surface,
                       window_substep)
 
 log = logging.getLogger(__name__)
@@ -147,8 +147,7 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
                                    liquid_density=liquid.density
                                    if membrane_scheme == "quasi-static" else None)
     return Coupled(FillScale.tank(setup.model.radius), flow, info, start_volume, fluid,
-                   membrane, FluidParticipant(fluid, surface=surface,
-                                              pressure_map=fluid_pressure_map(setup)))
+                   membrane, fluid_participant(setup, fluid, surface))
 
 
 def frame(setup, parts: Coupled, state, pressure, level, t, seconds, converged) -> dict:

@@ -42,14 +42,13 @@ from structure.hyperelastic import svk_energy_and_gradient
 from structure.volume import liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
-from ..adapters import PRESSURE, FluidParticipant, MembraneParticipant, MembraneSurface
+from ..adapters import PRESSURE, MembraneParticipant, MembraneSurface
 from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
                                   static_compliance)
 from ..lifecycle import Run
 from ..models import hydrostatic_load, statics_substep
 from .coupled import (WINDOW_TIME_SCHEMES, coupling_settings, fluid_convection,
-                      fluid_pressure_map,
-                      membrane_surface, window_substep)
+                      fluid_participant, membrane_surface, window_substep)
 from .coupled_fill import START_MAX_STEPS, static_equilibrium
 from .slosh_surfaces import Contents, SurfaceWindows, register_surface
 
@@ -218,8 +217,7 @@ class DiaphragmWindows(SurfaceWindows):
     def __init__(self, setup, start, body, run: Run, window: float, n_windows: int):
         super().__init__(window, n_windows)
         self.parts = parts = _assemble(setup, body, run, window)
-        self.fluid_side = FluidParticipant(parts.fluid, surface=parts.surface,
-                                           pressure_map=fluid_pressure_map(setup))
+        self.fluid_side = fluid_participant(setup, parts.fluid, parts.surface)
         self.surface_data = dict(face_nodes=setup.model.face_nodes,
                                  node_mass=setup.model.node_mass)
         self.sample = _sampler(setup, parts)
