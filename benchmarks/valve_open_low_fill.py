@@ -11,7 +11,9 @@ the rest of the sheet lies on the tank wall.  The ``from 0.5`` cases start the s
 from half full, as the bundled scene does, and run it past the scene's 0.087 s, with its own
 two-ring rim (``clamped``) and with the thesis rim, to show how far the opening holds there.
 The ``mixing 0.1`` cases relax IQN-ILS's step outside its secants' span by 0.1
-(``coupling.mixing``), some without reused secants (``no reuse``, ``coupling.reuse = 0``);
+(``coupling.mixing``), some without reused secants (``no reuse``, ``coupling.reuse = 0``),
+one with the pressure fitted from each window's starting cells (``window cells``,
+``fluid.pressure_cells = "window"``);
 the two long ones (``LONG_CASES``: from half full to 0.9, and the ``valve-fill``'s drain from
 0.9) run only when named.
 Reported per case: windows done, coupling iterations per window, windows accepted unconverged
@@ -27,7 +29,7 @@ the inertial ones the scene's coupling (IQN-ILS, 100 iterations, a stalled windo
 the quasi-static ones the thesis fill's.  Writes
 ``benchmarks/output/valve_open_low_fill.json`` and ``valve_open_low_fill.png`` (each case by
 flow and window, marked by its outcome, and how far each ``from 0.5`` case ran).  Prints one
-JSON object; about 30 min.
+JSON object; about 40 min.
 """
 from __future__ import annotations
 
@@ -53,6 +55,9 @@ OUTPUT = Path(__file__).resolve().parent / "output"
 START_FILL = 0.1
 MIXING_NO_REUSE = {"coupling": dict(mixing=0.1, reuse=0)}
 """The keys of the ``mixing 0.1, no reuse`` cases (README, 'With mixing')."""
+WINDOW_CELLS = dict(MIXING_NO_REUSE, fluid=dict(pressure_cells="window"))
+"""Those and the pressure fitted from each window's starting cells (README, 'The pressure
+cells of a window')."""
 END_FILL = 0.9
 CASES = {
     "1e-3, 1 ms": dict(flow=1e-3, window=1e-3, end_time=0.1),
@@ -87,6 +92,10 @@ CASES = {
         flow=1e-3, window=2e-2, end_time=1.0, changes=MIXING_NO_REUSE),
     "1e-3, 50 ms, mixing 0.1, no reuse": dict(
         flow=1e-3, window=5e-2, end_time=1.0, changes=MIXING_NO_REUSE),
+    "1e-2, 1 ms, mixing 0.1, no reuse, to 0.1 s": dict(
+        flow=1e-2, window=1e-3, end_time=0.1, changes=MIXING_NO_REUSE),
+    "1e-2, 1 ms, mixing 0.1, no reuse, window cells": dict(
+        flow=1e-2, window=1e-3, end_time=0.1, changes=WINDOW_CELLS),
     "3e-3, 1 ms, mixing 0.1, no reuse": dict(
         flow=3e-3, window=1e-3, end_time=0.05, changes=MIXING_NO_REUSE),
     "from 0.5, clamped, 1e-2, 1 ms, mixing 0.1": dict(
@@ -98,6 +107,8 @@ CASES = {
     "from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse": dict(
         flow=1e-2, window=1e-3, end_time=1.5518, start_fill=0.5,
         changes=MIXING_NO_REUSE),
+    "from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse, window cells": dict(
+        flow=1e-2, window=1e-3, end_time=1.5518, start_fill=0.5, changes=WINDOW_CELLS),
     "drain from 0.9 to 0.1, simply-supported, -1e-3, 20 ms, mixing 0.1, no reuse": dict(
         flow=-1e-3, window=2e-2, end_time=30.86, start_fill=0.9,
         changes=MIXING_NO_REUSE),
@@ -105,9 +116,12 @@ CASES = {
 """name -> flow (m^3/s), window (s, inertial), end_time (s), scheme, start_fill (tank
 fraction, START_FILL when not given), support (the thesis rim when not given), other keys."""
 LONG_CASES = ("from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse",
+              "from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reuse, "
+              "window cells",
               "drain from 0.9 to 0.1, simply-supported, -1e-3, 20 ms, mixing 0.1, no reuse")
-"""Cases run only when named in ``--cases``: the whole fill from half full and the valve
-fill's drain, about 18 and 15 min."""
+"""Cases run only when named in ``--cases``: the whole fill from half full (with the cells
+chosen anew each iteration and at each window's start) and the valve fill's drain, each a
+quarter of an hour or more."""
 
 
 def run_case(flow: float, end_time: float, window: float = 1e-3, scheme: str = "euler",

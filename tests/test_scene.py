@@ -110,7 +110,9 @@ def test_thesis_fill_and_drain_span_tank_fraction_0_1_to_0_9(name):
 
 def test_valve_fill_spans_0_1_to_0_9_with_mixing_in_its_coupling():
     """The valve fill (README, 'With mixing: the valve fill to completion'): its windows end
-    at or past tank fraction 0.9, within one window, and its coupling carries mixing."""
+    at or past tank fraction 0.9, within one window, its coupling carries mixing, and its
+    pressure is fitted from each window's starting cells ('The pressure cells of a
+    window')."""
     from fsi.procedures.coupled import coupling_settings
 
     setup = build(load_scene("valve-fill"))
@@ -122,6 +124,7 @@ def test_valve_fill_spans_0_1_to_0_9_with_mixing_in_its_coupling():
     assert settings.acceleration == "iqn-ils"
     assert settings.acceleration_settings.mixing == 0.1
     assert settings.acceleration_settings.reuse == 0
+    assert setup.scene["fluid"]["pressure_cells"] == "window"
 
 
 def test_with_keys_changes_a_copy_and_checks_each_value():
