@@ -21,8 +21,9 @@ function ``map(solver, surface, level, cell_weight=None) -> (n,) Pa`` of the flu
   constant over the cut cells, plus the body potential rho b . x evaluated at the point):
   the pressure whose work on the sheet is what the cut cells' volume change does in the
   liquid's continuity equation, the conservative side of the pair. A point whose cell holds
-  less liquid than :data:`fluid.sampling.MIN_FRACTION` of it (or no weight) takes the fit instead: such a
-  cell's pressure is extrapolated from its neighbours or barely constrained (with every cell
+  less liquid than :data:`fluid.sampling.MIN_FRACTION` of it (with ``cell_weight``: whose
+  cell has no weight) takes the fit instead: such a cell's pressure is extrapolated from its
+  neighbours or barely constrained (with every cell
   that holds any liquid taken, the 1 ms BDF2 run of the half-full diaphragm diverged at
   t = 0.29 s).
 
