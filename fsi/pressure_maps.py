@@ -23,9 +23,8 @@ function ``map(solver, surface, level, cell_weight=None) -> (n,) Pa`` of the flu
   liquid's continuity equation, the conservative side of the pair. A point whose cell holds
   less liquid than :data:`fluid.sampling.MIN_FRACTION` of it (with ``cell_weight``: whose
   cell has no weight) takes the fit instead: such a cell's pressure is extrapolated from its
-  neighbours or barely constrained (with every cell
-  that holds any liquid taken, the 1 ms BDF2 run of the half-full diaphragm diverged at
-  t = 0.29 s).
+  neighbours or barely constrained (with every cell that holds any liquid taken, the 1 ms
+  BDF2 run of the half-full diaphragm diverged at t = 0.29 s).
 
 Quadrature: each triangle cut into QUADRATURE_LEVELS^2 similar triangles, one point at
 each centroid, weight A / QUADRATURE_LEVELS^2.
