@@ -12,18 +12,21 @@ misses a curved or folded interface's volume at second order in h (1 % of the li
 cells with the diaphragm along the upper wall), and that error changes with the shape, so the
 discrete liquid volume would drift from what the ports delivered. The shift is the global
 volume correction of level-set methods (a uniform normal displacement of the interface, as
-in Chang, Hou, Merriman & Osher 1996, J. Comput. Phys. 124); it is found by Brent's method
-within half a cell and recorded (``Geometry.interface_shift``); beyond half a cell it stops
-there, logged.
+in Chang, Hou, Merriman & Osher 1996, J. Comput. Phys. 124); it is found by the secant method
+from c = 0 (the held volume is smooth and nearly linear in c, so a few cut-cell passes do),
+or, where that does not converge within half a cell, by Brent's method on the half-cell
+bracket, and recorded (``Geometry.interface_shift``); beyond half a cell it stops there,
+logged.
 """
 from __future__ import annotations
 
 import logging
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.optimize import brentq
+from scipy.optimize import brentq, root_scalar
 
 from . import cutcell
 from .grid import TankGrid
@@ -37,6 +40,9 @@ DISTANCE_BAND_CELLS = 2.5
 MAX_SHIFT_CELLS = 0.5
 #: the shift is found to this many cells (the held volume to the interface's area times it)
 SHIFT_TOLERANCE_CELLS = 1e-9
+#: the secant search's second point (in cells) and its iterations at most before Brent's
+SHIFT_SECANT_STEP_CELLS = 1e-2
+SHIFT_SECANT_ITERATIONS = 8
 
 
 @dataclass(frozen=True)
@@ -166,11 +172,12 @@ def _lattice_cell_fractions(grid: TankGrid, phi_v, itf_v, cells_alone) -> np.nda
 
 def _volume_shift(grid: TankGrid, phi_v, itf_v, cells_alone, volume: float) -> float:
     """The constant c (m, |c| <= MAX_SHIFT_CELLS h) for which the cut cells of phi_v and
-    itf_v + c hold ``volume`` (m^3), c to SHIFT_TOLERANCE_CELLS h (Brent's method; the held
-    volume falls monotonically with c). Where half a cell does not reach it (an interface
-    that is not that volume's boundary on this grid, e.g. a coupling iteration's trial shape
-    through the tank wall) the shift stops there and says so in the log: the geometry's
-    ``liquid_volume`` then shows the miss."""
+    itf_v + c hold ``volume`` (m^3), c to SHIFT_TOLERANCE_CELLS h: the secant method from 0
+    and SHIFT_SECANT_STEP_CELLS h (about five cut-cell passes), else Brent's method on the
+    half-cell bracket (the held volume falls monotonically with c). Where half a cell does
+    not reach it (an interface that is not that volume's boundary on this grid, e.g. a
+    coupling iteration's trial shape through the tank wall) the shift stops there and says
+    so in the log: the geometry's ``liquid_volume`` then shows the miss."""
     weight = grid.cell_volume * grid.volume_factor()
 
     def excess(c: float) -> float:
@@ -178,6 +185,14 @@ def _volume_shift(grid: TankGrid, phi_v, itf_v, cells_alone, volume: float) -> f
         return float((grid.lattice_to_cells(alpha) * weight).sum()) / volume - 1.0
 
     reach = MAX_SHIFT_CELLS * grid.spacing
+    tolerance = SHIFT_TOLERANCE_CELLS * grid.spacing
+    with warnings.catch_warnings():  # a flat excess (no interface in the tank) is not converged
+        warnings.simplefilter("ignore", RuntimeWarning)
+        secant = root_scalar(excess, method="secant", x0=0.0,
+                             x1=SHIFT_SECANT_STEP_CELLS * grid.spacing, xtol=tolerance, rtol=0.0,
+                             maxiter=SHIFT_SECANT_ITERATIONS)
+    if secant.converged and abs(secant.root) < reach:
+        return float(secant.root)
     low, high = excess(-reach), excess(reach)
     if not low >= 0.0 >= high:
         log.warning("the cut cells cannot hold the interface's liquid volume %.6g m^3 within "
@@ -187,5 +202,5 @@ def _volume_shift(grid: TankGrid, phi_v, itf_v, cells_alone, volume: float) -> f
         return reach if high > 0.0 else -reach
     if low == 0.0 or high == 0.0:
         return -reach if low == 0.0 else reach
-    return float(brentq(excess, -reach, reach, xtol=SHIFT_TOLERANCE_CELLS * grid.spacing,
+    return float(brentq(excess, -reach, reach, xtol=tolerance,
                         rtol=4 * np.finfo(float).eps))
