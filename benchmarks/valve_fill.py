@@ -1,11 +1,13 @@
 """The valve fill with inertia (``valve-fill``: 1e-3 m^3/s opened in 20 ms, tank fraction
 0.1 -> 0.9, 20 ms windows, IQN-ILS with mixing 0.1) against the static model at every 0.1 of
-tank fraction, beside the thesis's slow fill when its result is given.
+tank fraction, beside the valve drain and the thesis's slow fill when their results are given.
 
-    python benchmarks/valve_fill.py [--fill DIR] [--thesis-fill DIR] [--opening DIR]
+    python benchmarks/valve_fill.py [--fill DIR] [--drain DIR] [--thesis-fill DIR]
+                                    [--opening DIR]
 
 ``--fill``: the result folder of ``fsi run valve-fill`` (run here when not given: about
-15 min). ``--thesis-fill``: that of ``fsi run thesis-fill`` (2e-5 m^3/s, quasi-static
+15 min). ``--drain``: that of ``fsi run valve-drain`` (the same valve at -1e-3 m^3/s,
+0.9 -> 0.1), compared the same way when given. ``--thesis-fill``: that of ``fsi run thesis-fill`` (2e-5 m^3/s, quasi-static
 windows), compared the same way when given; ``--opening``: that of a run that opens the
 valve to 1e-2 m^3/s from half full and fills to 0.9 (README, 'With mixing: the valve fill to
 completion'), compared at the tank fractions it passes (0.5 ... 0.9). The static references
@@ -28,14 +30,16 @@ from fsi.output import read_result
 from fsi.scene import load_scene
 from thesis_fill_drain import OUTPUT, leg, plot, run_scene, static_sweep, write
 
-LEGS = (("valve-fill", "o-"), ("thesis-fill", "s--"), ("opening", "^-."))
-TITLE = ("valve-fill (1e-3 m^3/s, inertia), thesis-fill (2e-5 m^3/s) and the opening from "
-         "half full (1e-2 m^3/s) against the static model, N = 14, 16^3")
+LEGS = (("valve-fill", "o-"), ("valve-drain", "v:"), ("thesis-fill", "s--"),
+        ("opening", "^-."))
+TITLE = ("valve-fill and valve-drain (+-1e-3 m^3/s, inertia), thesis-fill (2e-5 m^3/s) and the "
+         "opening from half full (1e-2 m^3/s) against the static model, N = 14, 16^3")
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fill", type=Path)
+    parser.add_argument("--drain", type=Path)
     parser.add_argument("--thesis-fill", type=Path)
     parser.add_argument("--opening", type=Path)
     args = parser.parse_args(argv)
@@ -47,6 +51,8 @@ def main(argv=None) -> int:
     static = static_sweep(load_scene("valve-fill"))
     out = {"valve-fill": leg(fill, static.groups["frames"]),
            "static_sweep_seconds": time.perf_counter() - t0}
+    if args.drain is not None:
+        out["valve-drain"] = leg(read_result(args.drain), static.groups["frames"])
     if args.thesis_fill is not None:
         out["thesis-fill"] = leg(read_result(args.thesis_fill), static.groups["frames"])
     if args.opening is not None:

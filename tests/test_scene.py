@@ -1,4 +1,5 @@
 """Scene validation: unknown keys, wrong types and out-of-range values name the key."""
+import numpy as np
 import pytest
 
 from fsi.build import build
@@ -108,18 +109,22 @@ def test_thesis_fill_and_drain_span_tank_fraction_0_1_to_0_9(name):
     assert end_fill == pytest.approx(0.9 if flow > 0 else 0.1, abs=1e-6)
 
 
-def test_valve_fill_spans_0_1_to_0_9_with_mixing_in_its_coupling():
-    """The valve fill (README, 'With mixing: the valve fill to completion'): its windows end
-    at or past tank fraction 0.9, within one window, its coupling carries mixing, and its
-    pressure is fitted from each window's starting cells ('The pressure cells of a
-    window')."""
+@pytest.mark.parametrize("name, start, end", [("valve-fill", 0.1, 0.9),
+                                               ("valve-drain", 0.9, 0.1)])
+def test_valve_fill_and_drain_span_0_1_to_0_9_with_mixing_in_their_coupling(name, start, end):
+    """The valve fill and drain (README, 'With mixing: the valve fill to completion'): they
+    start at one end of 0.1..0.9, their windows end at or past the other, within one window,
+    their coupling carries mixing, and their pressure is fitted from each window's starting
+    cells ('The pressure cells of a window')."""
     from fsi.procedures.coupled import coupling_settings
 
-    setup = build(load_scene("valve-fill"))
+    setup = build(load_scene(name))
     dyn, port = setup.scene["dynamics"], setup.scene["port"]
     tank = 4.0 / 3.0 * 3.141592653589793 * setup.model.radius**3
     end_fill = dyn["start_fill"] + port["flow"] * (dyn["end_time"] - port["ramp_time"] / 2) / tank
-    assert 0.9 <= end_fill < 0.9 + port["flow"] * dyn["window"] / tank
+    assert dyn["start_fill"] == start
+    beyond = abs(port["flow"]) * dyn["window"] / tank
+    assert 0.0 <= (end_fill - end) * np.sign(port["flow"]) < beyond
     settings = coupling_settings(setup.scene["coupling"])
     assert settings.acceleration == "iqn-ils"
     assert settings.acceleration_settings.mixing == 0.1
