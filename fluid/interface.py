@@ -278,14 +278,10 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
     q = np.empty(3)
     lo = np.empty(3, dtype=np.int64)
     hi = np.empty(3, dtype=np.int64)
-    # a point farther from the face's plane than its distance so far cannot come nearer to
-    # the face (the slack, far above round-off, keeps every update the full test would make)
-    slack = 1e-12 * spacing[0]
     for f in range(tri.shape[0]):
         a = p[tri[f, 0]]
         b = p[tri[f, 1]]
         c = p[tri[f, 2]]
-        nf = face_n[f]
         for ax in range(3):
             mn = min(a[ax], b[ax], c[ax]) - band
             mx = max(a[ax], b[ax], c[ax]) + band
@@ -297,10 +293,6 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
                 q[1] = origin[1] + j * spacing[1]
                 for k in range(lo[2], hi[2] + 1):
                     q[2] = origin[2] + k * spacing[2]
-                    plane = abs((q[0] - a[0]) * nf[0] + (q[1] - a[1]) * nf[1]
-                                + (q[2] - a[2]) * nf[2])
-                    if plane - slack > abs(dist[i, j, k]):
-                        continue
                     u, v, w, region = _closest_on_triangle(q[0], q[1], q[2], a, b, c)
                     r0 = q[0] - (u * a[0] + v * b[0] + w * c[0])
                     r1 = q[1] - (u * a[1] + v * b[1] + w * c[1])

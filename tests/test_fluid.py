@@ -251,9 +251,8 @@ def test_closed_surface_sign_ignores_a_folded_flap():
 
 def test_lattice_distance_is_the_nearest_face_of_a_box():
     """Within the band every lattice point gets its distance to the nearest of a closed box's
-    twelve faces: inside, the nearest side plane; above it, the height over the lid. The
-    kernel skips a face whose plane is farther than the distance found so far, so a wrong
-    skip would leave a farther face's distance here."""
+    twelve faces: inside, the nearest side plane; above it, the height over the lid; a point
+    that kept a farther face's distance would show here."""
     a, zb, zt = 0.3, -0.3, 0.0123
     box = np.array([[-a, -a, zb], [a, -a, zb], [a, a, zb], [-a, a, zb],
                     [-a, -a, zt], [a, -a, zt], [a, a, zt], [-a, a, zt]])
