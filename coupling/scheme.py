@@ -16,7 +16,8 @@ input and output go to the acceleration's ``converged`` (quasi-Newton secants fo
 the accelerated vector is each accelerated field scaled by its norm at the window's first
 iteration (so fields of different units weigh alike in the quasi-Newton least squares).
 On reaching ``max_iterations`` without convergence the scheme raises :class:`CouplingError`
-(``on_max_iterations = "error"``), accepts the last iterate and logs it (``"accept"``), or
+(``on_max_iterations = "error"``), accepts the last iterate and logs it (``"accept"``; while
+every measured residual is at most ``accept_residual``, else it raises as ``"error"`` does), or
 redoes the window once from its start by the explicit scheme (``"explicit"``: the first
 participant with the window's predicted data, the second with the first's output; both
 restored from their checkpoints, the acceleration's reused secants dropped) and logs it.
@@ -88,7 +89,9 @@ class CouplingSettings:
     (module doc);
     accelerated_fields : fields in the fixed-point vector (default: the second's fields for
     serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction of each
-    window's starting values from past windows.
+    window's starting values from past windows; accept_residual : with ``accept``, the largest
+    residual (each measure's, in its own units) a window that did not converge is accepted at
+    (default inf: any).
     """
 
     scheme: str = "implicit-serial"
@@ -99,6 +102,7 @@ class CouplingSettings:
     on_max_iterations: str = "error"
     accelerated_fields: Optional[tuple] = None
     extrapolation_order: int = 0
+    accept_residual: float = float("inf")
 
     def __post_init__(self):
         if self.scheme not in SCHEMES:
@@ -110,6 +114,8 @@ class CouplingSettings:
         if self.on_max_iterations not in ON_MAX_ITERATIONS:
             raise ValueError(f"on_max_iterations must be one of {ON_MAX_ITERATIONS}, "
                              f"got {self.on_max_iterations!r}")
+        if not self.accept_residual > 0:
+            raise ValueError(f"accept_residual must be > 0, got {self.accept_residual!r}")
         if self.max_iterations < 1:
             raise ValueError(f"max_iterations must be >= 1, got {self.max_iterations!r}")
         if self.extrapolation_order not in EXTRAPOLATION_WEIGHTS:
@@ -374,6 +380,10 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
                f"iterations; last residuals {window.residuals[-1]}")
         if settings.on_max_iterations == "error":
             raise CouplingError(msg, window)
+        if (settings.on_max_iterations == "accept"
+                and max(window.residuals[-1].values()) > settings.accept_residual):
+            raise CouplingError(f"{msg}, above accept_residual = {settings.accept_residual:g}",
+                                window)
         if settings.on_max_iterations == "explicit":
             log.warning("%s; redone explicitly", msg)
             first.restore_checkpoint(checkpoints[0])

@@ -222,6 +222,27 @@ def test_max_iterations_accept_logs_and_continues(caplog):
     assert "accepted" in caplog.text
 
 
+def test_accept_residual_caps_what_a_stalled_window_may_keep():
+    """on_max_iterations = "accept" with accept_residual: a window stopped at max_iterations
+    is kept while its last residuals are at most the cap, and raises (so that a run redoes it
+    smaller, or stops) above it; the default keeps any."""
+    s, f = _pair()
+    settings = _settings("implicit-serial", "constant")
+    settings.max_iterations = 2
+    settings.on_max_iterations = "accept"
+    last = max(run(s, f, settings, dt=0.1, n_windows=1).windows[0].residuals[-1].values())
+    assert last > 0 and settings.accept_residual == float("inf")
+    settings.accept_residual = 2.0 * last
+    s, f = _pair()
+    assert not run(s, f, settings, dt=0.1, n_windows=1).windows[0].converged
+    settings.accept_residual = 0.5 * last
+    s, f = _pair()
+    with pytest.raises(CouplingError, match="above accept_residual"):
+        run(s, f, settings, dt=0.1, n_windows=1)
+    with pytest.raises(ValueError, match="accept_residual must be > 0"):
+        CouplingSettings(measures=settings.measures, accept_residual=0.0)
+
+
 def test_max_iterations_explicit_redoes_the_window_as_the_explicit_scheme_does(caplog):
     """on_max_iterations = "explicit": the unconverged window is redone from its restored
     start by the explicit scheme, so its data and the integrators' states equal a plain

@@ -132,6 +132,17 @@ def test_valve_fill_and_drain_span_0_1_to_0_9_with_mixing_in_their_coupling(name
     assert setup.scene["fluid"]["pressure_cells"] == "window"
 
 
+def test_accept_residual_reaches_the_coupling_and_is_checked():
+    from fsi.procedures.coupled import coupling_settings
+
+    scene = load_scene("valve-drain")
+    assert coupling_settings(scene.with_keys({"coupling": {"accept_residual": 0.1}})["coupling"]
+                             ).accept_residual == 0.1
+    assert coupling_settings(load_scene("valve-open")["coupling"]).accept_residual == np.inf
+    with pytest.raises(SceneError, match="coupling.accept_residual"):
+        scene.with_keys({"coupling": {"accept_residual": 0.0}})
+
+
 def test_with_keys_changes_a_copy_and_checks_each_value():
     scene = load_scene("diaphragm-fill")
     changed = scene.with_keys({"dynamics": {"window": 0.004, "end_time": 1}})

@@ -221,6 +221,12 @@ COUPLING = Table({
     "on_max_iterations": Key(str, "error", *one_of(ON_MAX_ITERATIONS),
                              "stop with an error, accept the window and log it, or redo it once by "
                              "the explicit scheme and log it"),
+    "accept_residual": Key(float, float("inf"), lambda v: v > 0, "> 0 (inf: any)",
+                           "on_max_iterations = accept: the largest residual (relative change "
+                           "per iteration, pressure or positions) a window that did not "
+                           "converge is accepted at; above it the window stops the run as with "
+                           "error, or is redone smaller where dynamics.window_tolerance > 0 "
+                           "(README, 'The valve drain')"),
     "extrapolation_order": Key(int, 0, *one_of(sorted(EXTRAPOLATION_WEIGHTS)),
                                "prediction of a window's start from past windows"),
 })
@@ -240,6 +246,7 @@ def coupling_settings(c: dict) -> CouplingSettings:
         measures=[ConvergenceMeasure(PRESSURE, "relative", c["pressure_tolerance"]),
                   ConvergenceMeasure(POINTS, "relative", c["position_tolerance"])],
         max_iterations=c["max_iterations"], on_max_iterations=c["on_max_iterations"],
+        accept_residual=c["accept_residual"],
         extrapolation_order=c["extrapolation_order"])
 
 
