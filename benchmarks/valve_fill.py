@@ -7,8 +7,9 @@ tank fraction, beside the valve drain and the thesis's slow fill when their resu
 
 ``--fill``: the result folder of ``fsi run valve-fill`` (run here when not given: about
 15 min). ``--drain``: that of ``fsi run valve-drain`` (the same valve at -1e-3 m^3/s,
-0.9 -> 0.1), compared the same way when given. ``--thesis-fill``: that of ``fsi run thesis-fill`` (2e-5 m^3/s, quasi-static
-windows), compared the same way when given; ``--opening``: that of a run that opens the
+0.9 -> 0.1), compared the same way when given. ``--thesis-fill``: that of
+``fsi run thesis-fill`` (2e-5 m^3/s, quasi-static windows), compared the same way when
+given; ``--opening``: that of a run that opens the
 valve to 1e-2 m^3/s from half full and fills to 0.9 (README, 'With mixing: the valve fill to
 completion'), compared at the tank fractions it passes (0.5 ... 0.9). The static references
 and measures are those of ``benchmarks/thesis_fill_drain.py``: the volume sweep of the same
