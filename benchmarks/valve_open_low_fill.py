@@ -96,6 +96,9 @@ CASES = {
         flow=1e-2, window=1e-3, end_time=0.1, changes=MIXING_NO_REUSE),
     "1e-2, 1 ms, mixing 0.1, no reuse, window cells": dict(
         flow=1e-2, window=1e-3, end_time=0.1, changes=WINDOW_CELLS),
+    "1e-2, 1 ms, mixing 0.1, no reuse, window cells, 24^3": dict(
+        flow=1e-2, window=1e-3, end_time=0.1,
+        changes=dict(WINDOW_CELLS, fluid=dict(pressure_cells="window", cells=24))),
     "3e-3, 1 ms, mixing 0.1, no reuse": dict(
         flow=3e-3, window=1e-3, end_time=0.05, changes=MIXING_NO_REUSE),
     "from 0.5, clamped, 1e-2, 1 ms, mixing 0.1": dict(
@@ -123,10 +126,11 @@ LONG_CASES = ("from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reu
               "window cells",
               "drain from 0.9 to 0.1, simply-supported, -1e-3, 20 ms, mixing 0.1, no reuse",
               "drain from 0.9 to 0.1, simply-supported, -1e-3, 20 ms, mixing 0.1, no reuse, "
-              "window cells")
+              "window cells",
+              "1e-2, 1 ms, mixing 0.1, no reuse, window cells, 24^3")
 """Cases run only when named in ``--cases``: the whole fill from half full and the valve
 fill's drain (each with the cells chosen anew each iteration and at each window's start),
-each a quarter of an hour or more."""
+each a quarter of an hour or more, and the opening from 0.1 on the 24^3 liquid grid."""
 
 
 def run_case(flow: float, end_time: float, window: float = 1e-3, scheme: str = "euler",
