@@ -33,6 +33,21 @@ PRESSURE = "interface_pressure"
 log = logging.getLogger(__name__)
 
 
+def _membrane_velocity(start: MembraneState, end: MembraneState, dt: float) -> np.ndarray:
+    return end.node_velocity
+
+
+def _window_mean_velocity(start: MembraneState, end: MembraneState, dt: float) -> np.ndarray:
+    return (end.node_position - start.node_position) / dt
+
+
+INTERFACE_VELOCITIES = {"membrane": _membrane_velocity, "window-mean": _window_mean_velocity}
+"""The node velocities (n, 3) m/s the membrane sends with its window's end positions, by
+name, ``f(start, end, dt)``: ``membrane``, its own velocity at the window's end (the last
+substep's); ``window-mean``, (x_end - x_start)/dt, the velocity of a backward Euler liquid
+step whose cut cells move from the window's start to its end."""
+
+
 class FluidParticipant:
     """A :class:`fluid.solver.FluidSolver` seen by the coupling.
 
@@ -175,6 +190,7 @@ class MembraneParticipant:
     (3,) m/s^2 or a function of time returning it (tank frame). ``scheme``: the window's
     time scheme, a name in :data:`structure.xpbd.WINDOW_SCHEMES` ('substeps', 'bdf2', which
     reads the state one window back: kept here and in the checkpoints, or 'quasi-static').
+    ``velocity``: the node velocities sent, a name in :data:`INTERFACE_VELOCITIES`.
     ``liquid_density`` (kg/m^3): the liquid's pressure received at the points last sent is
     moved with each node along the hydrostatic gradient, p(x) = p + rho b . (x - x_sent), a
     field the membrane's solver evaluates where the node is (the quasi-static scheme does so
@@ -199,10 +215,14 @@ class MembraneParticipant:
 
     def __init__(self, model: XpbdModel, state: MembraneState, settings: XpbdSettings,
                  volume: Callable[[float], float], body_acceleration, level: float = 0.0,
-                 scheme: str = "substeps", liquid_density: float | None = None):
+                 scheme: str = "substeps", liquid_density: float | None = None,
+                 velocity: str = "membrane"):
         if scheme not in WINDOW_SCHEMES:
             raise ValueError(f"unknown membrane window scheme {scheme!r}; allowed: "
                              f"{sorted(WINDOW_SCHEMES)}")
+        if velocity not in INTERFACE_VELOCITIES:
+            raise ValueError(f"unknown interface velocity {velocity!r}; allowed: "
+                             f"{sorted(INTERFACE_VELOCITIES)}")
         self.model = model
         self.state = state.copy()
         self.settings = settings
@@ -211,6 +231,7 @@ class MembraneParticipant:
         self.level = float(level)
         self.scheme = scheme
         self.liquid_density = liquid_density
+        self.velocity = INTERFACE_VELOCITIES[velocity]
         self.history: tuple[MembraneState, float] | None = None
         self.sent = self.state.node_position.copy()
         self.dynamic_windows: list[float] = []
@@ -221,13 +242,13 @@ class MembraneParticipant:
         b = self.body_acceleration
         return np.asarray(b(time) if callable(b) else b, dtype=float)
 
-    def _fields(self) -> dict:
+    def _fields(self, node_velocity: np.ndarray) -> dict:
         self.sent = self.state.node_position.copy()
         return {POINTS: self.state.node_position.ravel().copy(),
-                VELOCITIES: self.state.node_velocity.ravel().copy()}
+                VELOCITIES: np.array(node_velocity, dtype=float).ravel()}
 
     def initial_data(self) -> dict:
-        return self._fields()
+        return self._fields(self.state.node_velocity)
 
     def _pressure(self, received: np.ndarray, body: np.ndarray):
         """The node pressure (n,) Pa, or with ``liquid_density`` the field x -> (n,) Pa."""
@@ -243,7 +264,7 @@ class MembraneParticipant:
         self.state, info = self._step(start, received, body, time, dt)
         self.history = (start, dt)
         self.level = info.pressure_level
-        return self._fields()
+        return self._fields(self.velocity(start, self.state, dt))
 
     def with_inertia(self, time: float) -> None:
         """The window starting at ``time`` (s) is done with the membrane's inertia."""

@@ -16,7 +16,7 @@ from fluid.hydrostatic import HydrostaticLiquid
 from fluid.model import Port
 from fluid.solver import FluidSolver
 from fluid.tank import sphere_model, tank_grid
-from fsi.adapters import (POINTS, PRESSURE, FluidParticipant, MembraneParticipant,
+from fsi.adapters import (POINTS, PRESSURE, VELOCITIES, FluidParticipant, MembraneParticipant,
                           MembraneSurface)
 from fsi.limits import courant_time_step_limit
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
@@ -115,3 +115,30 @@ def test_a_membrane_out_of_the_tank_stops_the_run_by_name():
         liquid_volume(model.base, rest), rel=1e-15)
     with pytest.raises(XpbdDivergence, match="left the tank"):
         MembraneSurface(model, lambda x: -1e-4)(rest, np.zeros_like(rest))
+
+
+def test_window_mean_velocity_is_the_positions_change_over_the_window(half_full):
+    """``interface_velocity = "window-mean"`` sends (x_end - x_start)/dt, the velocity of a
+    backward Euler liquid step whose boundary moves from the window's start to its end;
+    ``membrane`` sends the membrane's own end velocity (its last substep's). The choice
+    changes only what is sent: both membranes take the same step."""
+    model, settings, state, level = half_full
+    v0 = liquid_volume(model.base, state.node_position)
+    sent = {}
+    for name in ("membrane", "window-mean"):
+        membrane = MembraneParticipant(model, state, settings, lambda t: v0, GRAVITY, level,
+                                       velocity=name)
+        # no liquid pressure: the sheet starts to fall under its weight and the level
+        out = membrane.solve_window(0.0, WINDOW, {PRESSURE: np.zeros(len(state.node_position))})
+        sent[name] = (out[POINTS].reshape(-1, 3), out[VELOCITIES].reshape(-1, 3),
+                      membrane.state.node_velocity)
+    (x_m, v_m, own_m), (x_w, v_w, own_w) = sent["membrane"], sent["window-mean"]
+    np.testing.assert_array_equal(x_m, x_w)
+    np.testing.assert_array_equal(own_m, own_w)
+    np.testing.assert_array_equal(v_m, own_m)
+    np.testing.assert_allclose(v_w, (x_w - state.node_position) / WINDOW, rtol=0, atol=1e-12)
+    # uniformly accelerated from rest the mean is half the end velocity, not the end velocity
+    assert np.abs(v_w).max() < 0.75 * np.abs(v_m).max()
+    with pytest.raises(ValueError, match="unknown interface velocity 'end'.*window-mean"):
+        MembraneParticipant(model, state, settings, lambda t: v0, GRAVITY, level,
+                            velocity="end")

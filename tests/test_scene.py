@@ -114,8 +114,9 @@ def test_thesis_fill_and_drain_span_tank_fraction_0_1_to_0_9(name):
 def test_valve_fill_and_drain_span_0_1_to_0_9_with_mixing_in_their_coupling(name, start, end):
     """The valve fill and drain (README, 'With mixing: the valve fill to completion'): they
     start at one end of 0.1..0.9, their windows end at or past the other, within one window,
-    their coupling carries mixing, and their pressure is fitted from each window's starting
-    cells ('The pressure cells of a window')."""
+    their coupling carries mixing, their pressure is fitted from each window's starting
+    cells ('The pressure cells of a window') and the liquid gets each window's mean velocity
+    ('The velocity the liquid sees')."""
     from fsi.procedures.coupled import coupling_settings
 
     setup = build(load_scene(name))
@@ -130,6 +131,7 @@ def test_valve_fill_and_drain_span_0_1_to_0_9_with_mixing_in_their_coupling(name
     assert settings.acceleration_settings.mixing == 0.1
     assert settings.acceleration_settings.reuse == 0
     assert setup.scene["fluid"]["pressure_cells"] == "window"
+    assert setup.scene["coupling"]["interface_velocity"] == "window-mean"
 
 
 def test_accept_residual_reaches_the_coupling_and_is_checked():
@@ -141,6 +143,31 @@ def test_accept_residual_reaches_the_coupling_and_is_checked():
     assert coupling_settings(load_scene("valve-open")["coupling"]).accept_residual == np.inf
     with pytest.raises(SceneError, match="coupling.accept_residual"):
         scene.with_keys({"coupling": {"accept_residual": 0.0}})
+
+
+def test_interface_velocity_reaches_the_membrane_and_is_checked():
+    """``coupling.interface_velocity`` picks what the membrane sends the liquid (README, 'The
+    velocity the liquid sees'); the default is the membrane's own end velocity."""
+    from types import SimpleNamespace
+
+    from fsi.adapters import INTERFACE_VELOCITIES
+    from fsi.procedures.coupled_fill import assemble, membrane_settings
+    from structure.model import MembraneState
+    from structure.xpbd import XpbdModel
+
+    scene = load_scene("diaphragm-fill").with_keys({"membrane": {"grid_size": 6},
+                                                    "fluid": {"cells": 12},
+                                                    "port": {"radius": 0.07, "length": 0.1}})
+    for name in (None, "window-mean"):
+        keys = {} if name is None else {"coupling": {"interface_velocity": name}}
+        setup = build(scene.with_keys(keys))
+        model = XpbdModel.from_membrane(setup.model)
+        rest = MembraneState(setup.model.node_rest_position)
+        parts = assemble(setup, model, membrane_settings(setup), rest,
+                         SimpleNamespace(pressure_level=0.0))
+        assert parts.membrane.velocity is INTERFACE_VELOCITIES[name or "membrane"]
+    with pytest.raises(SceneError, match="coupling.interface_velocity"):
+        scene.with_keys({"coupling": {"interface_velocity": "end"}})
 
 
 def test_with_keys_changes_a_copy_and_checks_each_value():

@@ -13,7 +13,7 @@ from fluid.solver import FluidSolver
 from fluid.tank import port_stub_volume, tank_spacing
 from structure.volume import liquid_volume
 
-from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneSurface
+from ..adapters import INTERFACE_VELOCITIES, POINTS, PRESSURE, FluidParticipant, MembraneSurface
 from ..limits import courant_time_step_limit
 from ..models import XPBD_COURANT_FRACTION
 from ..pressure_maps import PRESSURE_MAPS
@@ -198,6 +198,13 @@ COUPLING = Table({
                        "the diaphragm') or quasi-static (liquid backward Euler, the membrane in "
                        "equilibrium at each window's end, no inertia: slow fills with long "
                        "windows; README, 'Dynamic fill')"),
+    "interface_velocity": Key(str, "membrane", *one_of(sorted(INTERFACE_VELOCITIES)),
+                              "the node velocities the liquid gets with the window's end "
+                              "positions: membrane (the membrane's own at the window's end, "
+                              "its last substep's) or window-mean ((x_end - x_start)/dt, the "
+                              "backward Euler liquid's own: a sheet snapping inside a window "
+                              "does not reach the liquid as one node's spike; README, 'The "
+                              "velocity the liquid sees')"),
     "acceleration": Key(str, "iqn-ils", *one_of(sorted(ACCELERATIONS)),
                         "acceleration of the interface pressure"),
     "relaxation": Key(float, 0.01, lambda v: 0 < v <= 1, "0 < value <= 1",

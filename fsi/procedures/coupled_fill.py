@@ -145,7 +145,8 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
                                    lambda t: start_volume + flow.delivered(t), body,
                                    info.pressure_level, membrane_scheme,
                                    liquid_density=liquid.density
-                                   if membrane_scheme == "quasi-static" else None)
+                                   if membrane_scheme == "quasi-static" else None,
+                                   velocity=scene["coupling"]["interface_velocity"])
     return Coupled(FillScale.tank(setup.model.radius), flow, info, start_volume, fluid,
                    membrane, fluid_participant(setup, fluid, surface))
 

@@ -147,7 +147,8 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     fluid = FluidSolver(model, surface.of(state))
     held = liquid_volume(setup.model, state.node_position)
     membrane = MembraneParticipant(xpbd, state, settings, lambda t: held, body,
-                                   info.pressure_level, membrane_scheme)
+                                   info.pressure_level, membrane_scheme,
+                                   velocity=scene["coupling"]["interface_velocity"])
     node_mass = setup.model.node_mass
     liquid_mass = setup.liquid.density * fluid.liquid_volume
     mass = liquid_mass + float(node_mass.sum())
