@@ -99,6 +99,10 @@ CASES = {
     "1e-2, 1 ms, mixing 0.1, no reuse, window cells, 24^3": dict(
         flow=1e-2, window=1e-3, end_time=0.1,
         changes=dict(WINDOW_CELLS, fluid=dict(pressure_cells="window", cells=24))),
+    "1e-2, 1 ms, mixing 0.1, no reuse, window cells, window-mean velocity": dict(
+        flow=1e-2, window=1e-3, end_time=0.1,
+        changes=dict(WINDOW_CELLS, coupling=dict(WINDOW_CELLS["coupling"],
+                                                 interface_velocity="window-mean"))),
     "3e-3, 1 ms, mixing 0.1, no reuse": dict(
         flow=3e-3, window=1e-3, end_time=0.05, changes=MIXING_NO_REUSE),
     "from 0.5, clamped, 1e-2, 1 ms, mixing 0.1": dict(
