@@ -168,6 +168,12 @@ def test_interface_velocity_reaches_the_membrane_and_is_checked():
         assert parts.membrane.velocity is INTERFACE_VELOCITIES[name or "membrane"]
     with pytest.raises(SceneError, match="coupling.interface_velocity"):
         scene.with_keys({"coupling": {"interface_velocity": "end"}})
+    # the window's mean is backward Euler's velocity: refused with BDF2 windows, by name
+    for name in ("diaphragm-fill", "slosh-diaphragm"):
+        bdf2 = load_scene(name).with_keys({"coupling": {"interface_velocity": "window-mean",
+                                                        "time_scheme": "bdf2"}})
+        with pytest.raises(SceneError, match="coupling.interface_velocity.*'membrane'"):
+            build(bdf2)
 
 
 def test_with_keys_changes_a_copy_and_checks_each_value():

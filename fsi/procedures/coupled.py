@@ -268,9 +268,23 @@ PORT_MIN_CELLS = {"radius": 1.5, "length": 2.0}
 """The port stub must span this many fluid cells in radius and in length to carry its flow."""
 
 
+def check_interface_velocity(scene) -> None:
+    """``coupling.interface_velocity = "window-mean"`` is the backward Euler liquid's own
+    velocity: refused where the liquid steps by another scheme (BDF2's is not the mean)."""
+    c = scene["coupling"]
+    liquid_scheme = WINDOW_TIME_SCHEMES[c["time_scheme"]][0]
+    if c["interface_velocity"] == "window-mean" and liquid_scheme != "euler":
+        raise SceneError(f"scene key 'coupling.interface_velocity' = 'window-mean' is the "
+                         f"backward Euler liquid's velocity; with coupling.time_scheme = "
+                         f"{c['time_scheme']!r} allowed: 'membrane'")
+
+
 def check_port(setup) -> None:
-    """The port stub spans :data:`PORT_MIN_CELLS` fluid cells and is narrower than the tank."""
+    """The port stub spans :data:`PORT_MIN_CELLS` fluid cells and is narrower than the tank,
+    and the interface velocity fits the window's time scheme
+    (:func:`check_interface_velocity`)."""
     scene = setup.scene
+    check_interface_velocity(scene)
     h = tank_spacing(scene["tank"]["radius"], scene["fluid"]["cells"], axisymmetric=False)
     for key, cells in PORT_MIN_CELLS.items():
         value = scene["port"][key]

@@ -47,8 +47,8 @@ from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
                                   static_compliance)
 from ..lifecycle import Run
 from ..models import hydrostatic_load, statics_substep
-from .coupled import (WINDOW_TIME_SCHEMES, coupling_settings, fluid_convection,
-                      fluid_participant, membrane_surface, window_substep)
+from .coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity, coupling_settings,
+                      fluid_convection, fluid_participant, membrane_surface, window_substep)
 from .coupled_fill import START_MAX_STEPS, static_equilibrium
 from .slosh_surfaces import Contents, SurfaceWindows, register_surface
 
@@ -230,6 +230,10 @@ class DiaphragmWindows(SurfaceWindows):
                                   node_position=parts.membrane.state.node_position.copy()))
         self.loop = start_loop(parts.membrane, self.fluid_side,
                                coupling_settings(setup.scene["coupling"]), window, n_windows)
+
+    @classmethod
+    def check(cls, scene) -> None:
+        check_interface_velocity(scene)
 
     def step(self, run: Run) -> None:
         membrane, window = self.parts.membrane, self.window
