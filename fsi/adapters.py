@@ -212,6 +212,8 @@ class MembraneParticipant:
 
     name = "structure"
     write_fields = (POINTS, VELOCITIES)
+    # what a participant checkpointed before ``velocity`` existed sent: resumed, it goes on so
+    velocity = staticmethod(_membrane_velocity)
 
     def __init__(self, model: XpbdModel, state: MembraneState, settings: XpbdSettings,
                  volume: Callable[[float], float], body_acceleration, level: float = 0.0,

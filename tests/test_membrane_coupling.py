@@ -139,6 +139,12 @@ def test_window_mean_velocity_is_the_positions_change_over_the_window(half_full)
     np.testing.assert_allclose(v_w, (x_w - state.node_position) / WINDOW, rtol=0, atol=1e-12)
     # uniformly accelerated from rest the mean is half the end velocity, not the end velocity
     assert np.abs(v_w).max() < 0.75 * np.abs(v_m).max()
+    # a participant checkpointed before the choice existed resumes sending its own velocity
+    older = MembraneParticipant(model, state, settings, lambda t: v0, GRAVITY, level,
+                                velocity="window-mean")
+    del older.__dict__["velocity"]
+    out = older.solve_window(0.0, WINDOW, {PRESSURE: np.zeros(len(state.node_position))})
+    np.testing.assert_array_equal(out[VELOCITIES].reshape(-1, 3), own_m)
     with pytest.raises(ValueError, match="unknown interface velocity 'end'.*window-mean"):
         MembraneParticipant(model, state, settings, lambda t: v0, GRAVITY, level,
                             velocity="end")
