@@ -280,11 +280,8 @@ def check_interface_velocity(scene) -> None:
 
 
 def check_port(setup) -> None:
-    """The port stub spans :data:`PORT_MIN_CELLS` fluid cells and is narrower than the tank,
-    and the interface velocity fits the window's time scheme
-    (:func:`check_interface_velocity`)."""
+    """The port stub spans :data:`PORT_MIN_CELLS` fluid cells and is narrower than the tank."""
     scene = setup.scene
-    check_interface_velocity(scene)
     h = tank_spacing(scene["tank"]["radius"], scene["fluid"]["cells"], axisymmetric=False)
     for key, cells in PORT_MIN_CELLS.items():
         value = scene["port"][key]
@@ -297,3 +294,10 @@ def check_port(setup) -> None:
     if radius >= scene["tank"]["radius"]:
         raise SceneError(f"scene key 'port.radius' = {radius!r} m: allowed below the tank "
                          f"radius {scene['tank']['radius']!r} m")
+
+
+def check_coupled_fill(setup) -> None:
+    """A coupled fill's scene before it runs: the port (:func:`check_port`) and the interface
+    velocity against the window's time scheme (:func:`check_interface_velocity`)."""
+    check_port(setup)
+    check_interface_velocity(setup.scene)

@@ -44,7 +44,7 @@ from ..models import hydrostatic_load
 from ..motion import body_acceleration
 from ..registry import Procedure, register_procedure
 from ..window_control import END_TOLERANCE, WindowController
-from .coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES, check_port,
+from .coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES, check_coupled_fill,
                       coupling_settings, fluid_convection, fluid_participant, membrane_surface,
                       window_substep)
 
@@ -314,6 +314,6 @@ PROCEDURE = register_procedure(Procedure(
     run=coupled_fill,
     tables=COUPLED_TABLES,
     structure_model="xpbd",
-    check_setup=check_port,
+    check_setup=check_coupled_fill,
     report=report,
 ))
