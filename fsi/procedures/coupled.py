@@ -77,6 +77,10 @@ DYNAMICS = Table({
     "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,
                             "0 < value <= 1", "XPBD substep / explicit limit of the load "
                             "(0.3: about 1 % stiffness bias, README)"),
+    "node_damping": Key(float, 0.0, lambda v: 0 <= v <= 10, "0 <= value <= 10 N s/m",
+                        "coupling.time_scheme = euler: c of the membrane substeps' damping of "
+                        "each node's velocity relative to its neighbours', c sum_j (v_j - v_i) "
+                        "(N); 0: none (README, 'Node damping')"),
 }, _check_dynamics)
 """[dynamics]: start, windows and frames of a coupled run."""
 
@@ -279,6 +283,16 @@ def check_interface_velocity(scene) -> None:
                          f"{c['time_scheme']!r} allowed: 'membrane'")
 
 
+def check_node_damping(scene) -> None:
+    """``dynamics.node_damping`` > 0 damps the membrane's substeps: refused where the membrane
+    steps otherwise (BDF2's one step, quasi-static equilibria)."""
+    c, damping = scene["coupling"], scene["dynamics"]["node_damping"]
+    if damping > 0 and WINDOW_TIME_SCHEMES[c["time_scheme"]][1] != "substeps":
+        raise SceneError(f"scene key 'dynamics.node_damping' = {damping!r} N s/m damps the "
+                         f"membrane's substeps; with coupling.time_scheme = "
+                         f"{c['time_scheme']!r} allowed: 0")
+
+
 def check_port(setup) -> None:
     """The port stub spans :data:`PORT_MIN_CELLS` fluid cells and is narrower than the tank."""
     scene = setup.scene
@@ -298,6 +312,8 @@ def check_port(setup) -> None:
 
 def check_coupled_fill(setup) -> None:
     """A coupled fill's scene before it runs: the port (:func:`check_port`) and the interface
-    velocity against the window's time scheme (:func:`check_interface_velocity`)."""
+    velocity and the node damping against the window's time scheme
+    (:func:`check_interface_velocity`, :func:`check_node_damping`)."""
     check_port(setup)
     check_interface_velocity(setup.scene)
+    check_node_damping(setup.scene)

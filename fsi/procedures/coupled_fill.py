@@ -90,10 +90,12 @@ class Coupled:
 
 def membrane_settings(setup) -> XpbdSettings:
     """The XPBD settings of a coupled fill: the substep of ``dynamics.window`` at
-    ``dynamics.substep_fraction``, the static start's tolerance and cap."""
+    ``dynamics.substep_fraction``, the static start's tolerance and cap, the windows' node
+    damping (``dynamics.node_damping``)."""
     dyn = setup.scene["dynamics"]
     return XpbdSettings(dt=window_substep(setup, dyn["window"], dyn["substep_fraction"]),
-                        warm_start=False, tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS)
+                        warm_start=False, tolerance=START_TOLERANCE, max_steps=START_MAX_STEPS,
+                        node_damping=dyn["node_damping"])
 
 
 def static_start(setup, model: XpbdModel, settings: XpbdSettings):

@@ -39,11 +39,13 @@ liquid-side pressure of the window held on the nodes and the liquid volume presc
 membrane's own inertia kept (its stiffness bias ~ dt^2, as measured above, sets the substep).
 :func:`bdf2_step` takes the window as one implicit BDF2 step from the state one window back,
 every force at the window's end, the partner of a liquid collocated there (second order).
+:mod:`.damping` damps each node's velocity relative to its neighbours' in :func:`step`'s
+substeps (``XpbdSettings.node_damping``).
 
 Layout: :mod:`.model` (fixed data, settings, state, multipliers), :mod:`.kernels` (numba
 constraint sweeps), :mod:`.substep` (one substep), :mod:`.statics`
-(:func:`solve_equilibrium`), :mod:`.dynamics` (:func:`step`, :func:`bdf2_step`,
-:func:`quasi_static_step`).
+(:func:`solve_equilibrium`), :mod:`.damping` (relative node damping), :mod:`.dynamics`
+(:func:`step`, :func:`bdf2_step`, :func:`quasi_static_step`).
 """
 from .dynamics import WINDOW_SCHEMES, bdf2_step, quasi_static_step, step
 from .model import (XpbdDivergence, XpbdModel, XpbdMultipliers, XpbdSettings, XpbdState,

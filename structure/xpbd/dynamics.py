@@ -13,6 +13,7 @@ import numpy as np
 from ..load import Load, StepInfo
 from ..model import MembraneState
 from ..volume import liquid_volume
+from .damping import RelativeDamping
 from .model import XpbdDivergence, XpbdModel, XpbdMultipliers, XpbdSettings, XpbdState, \
     node_external_force
 from .statics import solve_equilibrium
@@ -36,8 +37,9 @@ def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
     """Dynamic XPBD over one time window of ``dt`` (s).
 
     The window is cut into the fewest equal substeps no longer than ``settings.dt``; each is
-    plain XPBD (multipliers from zero, velocities kept, no damping; ``settings.warm_start``
-    and ``kinetic_damping`` are ignored), so the membrane keeps its inertia. The load's node
+    plain XPBD (multipliers from zero, velocities kept; ``settings.warm_start`` and
+    ``kinetic_damping`` are ignored), so the membrane keeps its inertia, damped only by
+    ``settings.node_damping`` (:mod:`.damping`, before each substep's forces; 0: none). The load's node
     pressure (n,) Pa (a field is evaluated at the window's start) acts on the liquid side
     throughout the window, on the current node area vectors. With ``load.volume_target``
     (m^3) the liquid volume is held on the straight line from its value at the window's
@@ -61,7 +63,11 @@ def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
         volume = (liquid_volume(model.base, x), float(load.volume_target))
     else:
         node_pressure = node_pressure + load.pressure_level
+    damp = (RelativeDamping(model, s.dt, settings.node_damping)
+            if settings.node_damping > 0 else None)
     for k in range(1, n_sub + 1):
+        if damp is not None:
+            damp(v)
         force = node_external_force(model, x, node_pressure, load.body_acceleration)
         target = None
         if volume is not None:

@@ -86,7 +86,9 @@ class XpbdSettings:
     tolerance : converged when max |dx| / L_node per substep < tolerance (-);
     level_tolerance : and the level changes by less than this per substep (Pa);
     ramp_rate : the volume target moves by at most this fraction of the tank volume per substep;
-    max_steps : cap on substeps per solve.
+    max_steps : cap on substeps per solve;
+    node_damping : c (N s/m) of the dynamic substeps' damping of each node's velocity relative
+    to its neighbours' (:mod:`structure.xpbd.damping`; 0: none).
     """
 
     dt: float = 1e-3
@@ -98,6 +100,7 @@ class XpbdSettings:
     level_tolerance: float = 0.01
     ramp_rate: float = 1e-3
     max_steps: int = 200_000
+    node_damping: float = 0.0
 
     def __post_init__(self):
         if not self.dt > 0:
@@ -108,6 +111,8 @@ class XpbdSettings:
             raise ValueError(f"xpbd tolerance must be > 0, got {self.tolerance!r}")
         if not 0 < self.ramp_rate <= 1:
             raise ValueError(f"xpbd ramp_rate must be in (0, 1], got {self.ramp_rate!r}")
+        if not self.node_damping >= 0:
+            raise ValueError(f"xpbd node_damping must be >= 0 N s/m, got {self.node_damping!r}")
 
 @dataclass
 class XpbdMultipliers:
