@@ -23,6 +23,7 @@ from structure.xpbd.damping import RelativeDamping, edge_laplacian
 WINDOW = 0.02  # s, the valve scenes' window
 SUBSTEP = WINDOW / 27  # s, their substep
 DAMPING = 0.03  # N s/m
+SCENE_DAMPING = 0.1  # N s/m, the valve scenes'
 
 
 @pytest.fixture(scope="module")
@@ -79,7 +80,8 @@ def test_a_window_damps_the_zigzag_not_the_smooth_mode(sheet):
         # 0 is the plain substeps, bit for bit
         _, zero = _window_kinetic_energy(model, free, phi[:, k], 0.0)
         np.testing.assert_array_equal(zero.node_position, plain.node_position)
-    # measured: smooth 0.95, zigzag 0.49 (the undamped window already spreads both)
+    # measured: smooth 0.95, zigzag 0.49 (the undamped window already spreads both); at
+    # 0.1 N s/m 0.72 and 0.24
     assert ratios["smooth"] > 0.9
     assert ratios["zigzag"] < 0.6
 
@@ -90,8 +92,8 @@ def test_node_damping_reaches_the_membrane_and_is_checked():
 
     for name in ("valve-fill", "valve-drain"):
         scene = load_scene(name)
-        assert scene["dynamics"]["node_damping"] == DAMPING
-        assert membrane_settings(build(scene)).node_damping == DAMPING
+        assert scene["dynamics"]["node_damping"] == SCENE_DAMPING
+        assert membrane_settings(build(scene)).node_damping == SCENE_DAMPING
         check_node_damping(scene)
     with pytest.raises(SceneError, match="dynamics.node_damping"):
         load_scene("valve-fill").with_keys({"dynamics": {"node_damping": -0.1}})
