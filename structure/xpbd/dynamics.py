@@ -39,9 +39,10 @@ def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
     The window is cut into the fewest equal substeps no longer than ``settings.dt``; each is
     plain XPBD (multipliers from zero, velocities kept; ``settings.warm_start`` and
     ``kinetic_damping`` are ignored), so the membrane keeps its inertia, damped only by
-    ``settings.node_damping`` (:mod:`.damping`, before each substep's forces; 0: none). The load's node
-    pressure (n,) Pa (a field is evaluated at the window's start) acts on the liquid side
-    throughout the window, on the current node area vectors. With ``load.volume_target``
+    ``settings.node_damping`` (:mod:`.damping`, before each substep's forces; 0: none). The
+    load's node pressure (n,) Pa (a field is evaluated at the window's start) acts on the
+    liquid side throughout the window, on the current node area vectors. With
+    ``load.volume_target``
     (m^3) the liquid volume is held on the straight line from its value at the window's
     start to the target, substep by substep (one linearised projection each, so to first
     order in the substep's volume change), and the uniform pressure level that holds it is
