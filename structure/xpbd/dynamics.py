@@ -42,12 +42,11 @@ def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
     ``settings.node_damping`` (:mod:`.damping`, before each substep's forces; 0: none). The
     load's node pressure (n,) Pa (a field is evaluated at the window's start) acts on the
     liquid side throughout the window, on the current node area vectors. With
-    ``load.volume_target``
-    (m^3) the liquid volume is held on the straight line from its value at the window's
-    start to the target, substep by substep (one linearised projection each, so to first
-    order in the substep's volume change), and the uniform pressure level that holds it is
-    the volume multiplier over the substep squared (Pa, added to the node pressure); without,
-    ``load.pressure_level`` is added and held. Returns (:class:`XpbdState` at the window's end
+    ``load.volume_target`` (m^3) the liquid volume is held on the straight line from its
+    value at the window's start to the target, substep by substep (one linearised
+    projection each, so to first order in the substep's volume change), and the uniform
+    pressure level that holds it is the volume multiplier over the substep squared (Pa,
+    added to the node pressure); without, ``load.pressure_level`` is added and held. Returns (:class:`XpbdState` at the window's end
     with its velocities, :class:`structure.load.StepInfo` with the substeps and the level of
     the last substep).
     """
