@@ -46,9 +46,9 @@ def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
     value at the window's start to the target, substep by substep (one linearised
     projection each, so to first order in the substep's volume change), and the uniform
     pressure level that holds it is the volume multiplier over the substep squared (Pa,
-    added to the node pressure); without, ``load.pressure_level`` is added and held. Returns (:class:`XpbdState` at the window's end
-    with its velocities, :class:`structure.load.StepInfo` with the substeps and the level of
-    the last substep).
+    added to the node pressure); without, ``load.pressure_level`` is added and held.
+    Returns (:class:`XpbdState` at the window's end with its velocities,
+    :class:`structure.load.StepInfo` with the substeps and the level of the last substep).
     """
     if not dt > 0:
         raise ValueError(f"xpbd window duration must be > 0 s, got {dt!r}")
