@@ -13,7 +13,7 @@ import numpy as np
 from ..load import Load, StepInfo
 from ..model import MembraneState
 from ..volume import liquid_volume
-from .damping import RelativeDamping
+from .damping import relative_damping
 from .model import XpbdDivergence, XpbdModel, XpbdMultipliers, XpbdSettings, XpbdState, \
     node_external_force
 from .statics import solve_equilibrium
@@ -63,7 +63,7 @@ def step(model: XpbdModel, state: MembraneState, load: Load, dt: float,
         volume = (liquid_volume(model.base, x), float(load.volume_target))
     else:
         node_pressure = node_pressure + load.pressure_level
-    damp = (RelativeDamping(model, s.dt, settings.node_damping)
+    damp = (relative_damping(model, s.dt, settings.node_damping)
             if settings.node_damping > 0 else None)
     for k in range(1, n_sub + 1):
         if damp is not None:
