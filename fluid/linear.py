@@ -88,9 +88,12 @@ def _diagonal_solve(matrix, rhs, tolerance: float):
 
 
 def _jacobi(matrix):
+    # applied as a product with the inverse diagonal: the same numbers as the diagonal
+    # matrix's product (one term per row), without building that matrix at every solve
     diagonal = matrix.diagonal()
     inverse = np.where(diagonal != 0, 1.0 / np.where(diagonal != 0, diagonal, 1.0), 1.0)
-    return sp.diags(inverse).tocsr()
+    return sla.LinearOperator(matrix.shape, matvec=lambda x: inverse * np.ravel(x),
+                              dtype=inverse.dtype)
 
 
 def _ilu(matrix):
