@@ -433,14 +433,14 @@ def _flood_fill_sign(dist: np.ndarray, barrier: np.ndarray | None = None) -> np.
     for axis in range(ndim):
         for shift in (1, -1):
             nb = np.roll(dist, shift, axis=axis)
-            lab = labels.copy()
             # forbid wrap-around
             edge = [slice(None)] * ndim
             edge[axis] = 0 if shift == 1 else -1
             nb_valid = np.ones_like(out)
             nb_valid[tuple(edge)] = False
             pair = (labels > 0) & np.isfinite(nb) & nb_valid
-            np.add.at(votes, lab[pair], np.sign(nb[pair]))
+            # the votes are sums of +-1: exact in any order
+            votes += np.bincount(labels[pair], weights=np.sign(nb[pair]), minlength=count + 1)
     sign = np.where(votes >= 0, 1.0, -1.0)
     result = dist.copy()
     result[fill] = sign[labels[fill]] * np.inf
