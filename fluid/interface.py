@@ -278,10 +278,21 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
     q = np.empty(3)
     lo = np.empty(3, dtype=np.int64)
     hi = np.empty(3, dtype=np.int64)
+    # a lattice point is skipped where a lower bound of its distance to the triangle (to the
+    # triangle's plane, to its bounding sphere) exceeds the distance it already holds by
+    # more than round-off: the closest-point test would not have replaced it either
+    margin = 1e-9 * min(spacing[0], spacing[1], spacing[2])
     for f in range(tri.shape[0]):
         a = p[tri[f, 0]]
         b = p[tri[f, 1]]
         c = p[tri[f, 2]]
+        nf = face_n[f]
+        m0 = (a[0] + b[0] + c[0]) / 3.0
+        m1 = (a[1] + b[1] + c[1]) / 3.0
+        m2 = (a[2] + b[2] + c[2]) / 3.0
+        radius = np.sqrt(max((a[0] - m0) ** 2 + (a[1] - m1) ** 2 + (a[2] - m2) ** 2,
+                             (b[0] - m0) ** 2 + (b[1] - m1) ** 2 + (b[2] - m2) ** 2,
+                             (c[0] - m0) ** 2 + (c[1] - m1) ** 2 + (c[2] - m2) ** 2))
         for ax in range(3):
             mn = min(a[ax], b[ax], c[ax]) - band
             mx = max(a[ax], b[ax], c[ax]) + band
@@ -293,6 +304,13 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
                 q[1] = origin[1] + j * spacing[1]
                 for k in range(lo[2], hi[2] + 1):
                     q[2] = origin[2] + k * spacing[2]
+                    held = abs(dist[i, j, k]) + margin
+                    if abs((q[0] - a[0]) * nf[0] + (q[1] - a[1]) * nf[1]
+                           + (q[2] - a[2]) * nf[2]) > held:
+                        continue
+                    s0, s1, s2 = q[0] - m0, q[1] - m1, q[2] - m2
+                    if s0 * s0 + s1 * s1 + s2 * s2 > (radius + held) ** 2:
+                        continue
                     u, v, w, region = _closest_on_triangle(q[0], q[1], q[2], a, b, c)
                     r0 = q[0] - (u * a[0] + v * b[0] + w * c[0])
                     r1 = q[1] - (u * a[1] + v * b[1] + w * c[1])
