@@ -61,7 +61,9 @@ def test_axes_expand_lists_ranges_and_zipped_keys(tmp_path):
     assert expand("k", {"start": 0.1, "stop": 0.9, "num": 9})[2] == 0.3  # rounded, not 0.30..04
 
 
-@pytest.mark.parametrize("name, cases", [("slosh-by-fill", 18), ("static-by-model", 12)])
+@pytest.mark.parametrize("name, cases", [("slosh-by-fill", 18), ("static-by-model", 12),
+                                         ("valve-fill-samples", 4),
+                                         ("valve-drain-samples", 4)])
 def test_bundled_sweeps_build_every_case(name, cases, capsys):
     from fsi.sweep_file import load_sweep
 
