@@ -103,3 +103,68 @@ def test_a_diagonal_system_is_divided_not_iterated(name):
     coupled.data[coupled.indices != np.repeat(np.arange(n), np.diff(coupled.indptr))] = -0.1
     x, info = solver.solve(coupled, rhs, np.zeros(n))
     assert info.iterations > 0 and info.residual <= 1e-10
+
+
+def _pinned(a, dry: np.ndarray, pin: float = 7.0):
+    """``a`` (CSR) with the couplings of ``dry`` (bool) rows and columns set to zero but kept
+    stored (as the pressure system keeps the pattern of closed faces) and their diagonal
+    ``pin``; also the stored positions (row live, column dry) of the cut couplings."""
+    a = a.tocsr().copy()
+    row = np.repeat(np.arange(a.shape[0]), np.diff(a.indptr))
+    cut = (row != a.indices) & (dry[row] | dry[a.indices])
+    a.data[cut] = 0.0
+    a.data[(row == a.indices) & dry[row]] = pin
+    return a, np.flatnonzero(cut & ~dry[row] & dry[a.indices])
+
+
+def test_decoupled_rows_are_found_by_their_stored_entries():
+    from fluid.linear import decoupled_rows
+
+    a = poisson(4)
+    dry = np.zeros(64, dtype=bool)
+    dry[:20] = True
+    pinned, _ = _pinned(a, dry)
+    assert np.count_nonzero(pinned.data == 0.0) > 0  # the cut couplings stay stored, as zeros
+    np.testing.assert_array_equal(decoupled_rows(pinned), dry)
+    assert decoupled_rows(a) is None  # no row decoupled
+    few = np.zeros(64, dtype=bool)
+    few[:3] = True  # under DECOUPLED_SHARE of the rows: not worth leaving out
+    assert decoupled_rows(_pinned(a, few)[0]) is None
+
+
+@pytest.mark.parametrize("name", ["pcg-jacobi", "pcg", "bicgstab-jacobi", "gmres-ilu"])
+def test_decoupled_rows_left_out_meet_the_whole_systems_criterion(name):
+    n = 8
+    dry = np.random.default_rng(3).random(n**3) < 0.6  # most cells out of the liquid
+    symmetric = name in SYMMETRIC_ONLY
+    a, cut = _pinned(poisson(n) if symmetric else convection_diffusion(n), dry)
+    if not symmetric:
+        # a decoupled row's value feeds the others (no symmetry): moved to their right side
+        a.data[cut[:5]] = -0.7
+    b = np.random.default_rng(4).random(n**3)
+    x, info = make_solver(name, TOLERANCE, symmetric=symmetric).solve(a, b, np.zeros(n**3))
+    assert info.residual <= TOLERANCE and _residual(a, x, b) <= TOLERANCE
+    np.testing.assert_allclose(x, sp.linalg.spsolve(a.tocsc(), b), rtol=1e-7, atol=1e-12)
+    np.testing.assert_array_equal(x[dry], b[dry] / 7.0)  # divided, not iterated
+
+
+def test_the_compiled_jacobi_cg_takes_scipys_iterations():
+    # the same iteration as SciPy's cg with the inverse diagonal as preconditioner: the same
+    # number of iterations to the criterion and the same answer to round-off
+    import scipy.sparse.linalg as sla
+
+    from fluid.linear import JacobiCG
+
+    scale = np.random.default_rng(5).uniform(0.1, 10.0, 12**3)
+    a = poisson(12, scale=scale)
+    b = np.random.default_rng(6).random(12**3)
+    inverse = 1.0 / a.diagonal()
+    count = [0]
+    reference, info = sla.cg(a, b, rtol=TOLERANCE, atol=0.0,
+                             M=sla.LinearOperator(a.shape, matvec=lambda v: inverse * v),
+                             callback=lambda _: count.__setitem__(0, count[0] + 1))
+    assert info == 0
+    x, ours = JacobiCG(TOLERANCE, 2000).solve(a, b, np.zeros(12**3))
+    assert abs(ours.iterations - count[0]) <= 1 and count[0] > 50
+    np.testing.assert_allclose(x, reference, rtol=1e-8)
+    assert ours.residual <= TOLERANCE
