@@ -3,7 +3,8 @@
 The liquid is the region where two level sets are both negative (phi_a: the container,
 phi_b: the liquid side of the interface), each given at the vertices of a uniform lattice and
 taken linear on each simplex of the cells (two triangles per rectangle, the six Kuhn
-tetrahedra per cube). Each simplex is clipped by one level set and then by the other, so
+tetrahedra per cube). Each simplex is clipped by one level set and then by the other (a
+tetrahedron's pieces by closed forms in the edge crossings, :func:`_tet_fraction2`), so
 corners where the interface meets the tank wall are exact too (max(phi_a, phi_b) is not
 linear there). On that piecewise-linear surface the liquid volume of every cell and the open (wetted)
 fraction of every face are exact, so the discrete liquid volume changes by exactly the flux the
@@ -106,146 +107,6 @@ def _triangle_wet(px, py, fa, fb):
 
 
 @njit(**JIT)
-def _tet_volume(p):
-    """Volume of the tetrahedron with vertex rows p (4, 3)."""
-    ax, ay, az = p[1, 0] - p[0, 0], p[1, 1] - p[0, 1], p[1, 2] - p[0, 2]
-    bx, by, bz = p[2, 0] - p[0, 0], p[2, 1] - p[0, 1], p[2, 2] - p[0, 2]
-    cx, cy, cz = p[3, 0] - p[0, 0], p[3, 1] - p[0, 1], p[3, 2] - p[0, 2]
-    return abs(ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6.0
-
-
-@njit(**JIT)
-def _tet_wet_volume(p, phi):
-    """Volume of the part of a tetrahedron (vertices p (4, 3)) where the linear phi < 0."""
-    neg = 0
-    for a in range(4):
-        if phi[a] < 0.0:
-            neg += 1
-    if neg == 0:
-        return 0.0
-    full = _tet_volume(p)
-    if neg == 4:
-        return full
-    if neg == 1 or neg == 3:
-        lone_negative = neg == 1
-        lone = 0
-        for a in range(4):
-            if (phi[a] < 0.0) == lone_negative:
-                lone = a
-        frac = 1.0
-        for b in range(4):
-            if b != lone:
-                frac *= _crossing(phi[lone], phi[b])
-        return full * (frac if lone_negative else 1.0 - frac)
-    q = np.empty((6, 3))
-    _two_negative_prism(p, phi, phi, q, np.empty(6))
-    return _prism_volume(q)
-
-
-@njit(**JIT)
-def _two_negative_prism(p, phi, g, q, qg):
-    """The part phi < 0 of a tetrahedron with exactly two negative vertices: a triangular
-    prism q (6, 3) (triangles q[0:3], q[3:6]); g is carried to qg (6,)."""
-    a0 = -1
-    a1 = -1
-    b0 = -1
-    b1 = -1
-    for a in range(4):
-        if phi[a] < 0.0:
-            if a0 < 0:
-                a0 = a
-            else:
-                a1 = a
-        else:
-            if b0 < 0:
-                b0 = a
-            else:
-                b1 = a
-    k = 0
-    for a in (a0, a1):
-        q[k] = p[a]
-        qg[k] = g[a]
-        k += 1
-        for b in (b0, b1):
-            t = _crossing(phi[a], phi[b])
-            q[k] = p[a] + t * (p[b] - p[a])
-            qg[k] = g[a] + t * (g[b] - g[a])
-            k += 1
-
-
-@njit(**JIT)
-def _prism_volume(q):
-    t = np.empty((4, 3))
-    vol = 0.0
-    for tet in ((0, 1, 2, 3), (1, 2, 3, 4), (2, 3, 4, 5)):
-        for r in range(4):
-            t[r] = q[tet[r]]
-        vol += _tet_volume(t)
-    return vol
-
-
-_PRISM_TETS = np.array([[0, 1, 2, 3], [1, 2, 3, 4], [2, 3, 4, 5]], dtype=np.int64)
-
-
-@njit(**JIT)
-def _tet_wet_volume2(p, fa, fb):
-    """Volume of the part of a tetrahedron where both linear functions fa, fb are negative:
-    clip by fa into tetrahedra (1 or 3), then each by fb."""
-    neg = 0
-    for a in range(4):
-        if fa[a] < 0.0:
-            neg += 1
-    if neg == 0:
-        return 0.0
-    if neg == 4:
-        return _tet_wet_volume(p, fb)
-    tp = np.empty((4, 3))
-    tg = np.empty(4)
-    if neg == 1 or neg == 3:
-        lone_negative = neg == 1
-        lone = 0
-        for a in range(4):
-            if (fa[a] < 0.0) == lone_negative:
-                lone = a
-        if lone_negative:
-            # corner tetrahedron at the lone vertex
-            tp[0] = p[lone]
-            tg[0] = fb[lone]
-            k = 1
-            for b in range(4):
-                if b != lone:
-                    t = _crossing(fa[lone], fa[b])
-                    tp[k] = p[lone] + t * (p[b] - p[lone])
-                    tg[k] = fb[lone] + t * (fb[b] - fb[lone])
-                    k += 1
-            return _tet_wet_volume(tp, tg)
-        # tetrahedron minus the corner at the lone positive vertex: prism of the three
-        # negative vertices and the three crossings on their edges to the lone vertex
-        q = np.empty((6, 3))
-        qg = np.empty(6)
-        k = 0
-        for b in range(4):
-            if b != lone:
-                q[k] = p[b]
-                qg[k] = fb[b]
-                t = _crossing(fa[b], fa[lone])
-                q[k + 3] = p[b] + t * (p[lone] - p[b])
-                qg[k + 3] = fb[b] + t * (fb[lone] - fb[b])
-                k += 1
-    else:
-        q = np.empty((6, 3))
-        qg = np.empty(6)
-        _two_negative_prism(p, fa, fb, q, qg)
-    vol = 0.0
-    for s in range(3):
-        for r in range(4):
-            tp[r] = q[_PRISM_TETS[s, r]]
-            tg[r] = qg[_PRISM_TETS[s, r]]
-        vol += _tet_wet_volume(tp, tg)
-    return vol
-
-
-@njit(**JIT)
 def cell_fractions_2d(x, y, phi_a, phi_b, weighted):
     """Liquid fraction (nx, ny) of every rectangle of the lattice x (nx+1,), y (ny+1,) where
     phi_a and phi_b (nx+1, ny+1) are both negative; ``weighted``: axisymmetric (r dr dz)."""
@@ -323,6 +184,131 @@ _KUHN = np.array([
     dtype=np.int64)
 
 
+@njit(**JIT, inline="always")
+def _tet_fraction(f0, f1, f2, f3):
+    """The fraction of a tetrahedron where the linear function with vertex values f0 .. f3
+    is negative. One vertex apart from the others in sign: the corner tetrahedron at it,
+    the product of the three edge crossings (or one minus it). Two negative vertices a0, a1
+    and two others b0, b1: the prism between them, split into three tetrahedra, is
+    s u + u v (1 - s) + v w (1 - u) with s, u the crossings from a0 toward b0, b1 and v, w
+    from a1."""
+    f = (f0, f1, f2, f3)
+    neg = 0
+    for a in range(4):
+        if f[a] < 0.0:
+            neg += 1
+    if neg == 0:
+        return 0.0
+    if neg == 4:
+        return 1.0
+    if neg == 1 or neg == 3:
+        lone_negative = neg == 1
+        lone = 0
+        for a in range(4):
+            if (f[a] < 0.0) == lone_negative:
+                lone = a
+        corner = 1.0
+        for b in range(4):
+            if b != lone:
+                corner *= _crossing(f[lone], f[b])
+        return corner if lone_negative else 1.0 - corner
+    a0 = -1
+    a1 = -1
+    b0 = -1
+    b1 = -1
+    for a in range(4):
+        if f[a] < 0.0:
+            if a0 < 0:
+                a0 = a
+            else:
+                a1 = a
+        elif b0 < 0:
+            b0 = a
+        else:
+            b1 = a
+    s = _crossing(f[a0], f[b0])
+    u = _crossing(f[a0], f[b1])
+    v = _crossing(f[a1], f[b0])
+    w = _crossing(f[a1], f[b1])
+    return s * u + u * v * (1.0 - s) + v * w * (1.0 - u)
+
+
+@njit(**JIT, inline="always")
+def _tet_fraction2(a0, a1, a2, a3, b0, b1, b2, b3):
+    """The fraction of a tetrahedron where both linear functions, vertex values a0 .. a3 and
+    b0 .. b3, are negative: the part where a < 0 is one tetrahedron or a prism of three, each
+    a known fraction of the whole in a's edge crossings (:func:`_tet_fraction`'s prism; the
+    tetrahedron less a corner: t0, (1 - t0) t1, (1 - t0)(1 - t1) t2), and b, linear, is
+    interpolated to their corners and taken by :func:`_tet_fraction` in each."""
+    fa = (a0, a1, a2, a3)
+    fb = (b0, b1, b2, b3)
+    neg = 0
+    for a in range(4):
+        if fa[a] < 0.0:
+            neg += 1
+    if neg == 0:
+        return 0.0
+    if neg == 4:
+        return _tet_fraction(b0, b1, b2, b3)
+    if neg == 1 or neg == 3:
+        lone_negative = neg == 1
+        lone = 0
+        for a in range(4):
+            if (fa[a] < 0.0) == lone_negative:
+                lone = a
+        o0 = (lone + 1) % 4
+        o1 = (lone + 2) % 4
+        o2 = (lone + 3) % 4
+        if lone_negative:
+            # the corner tetrahedron at the lone vertex
+            t0 = _crossing(fa[lone], fa[o0])
+            t1 = _crossing(fa[lone], fa[o1])
+            t2 = _crossing(fa[lone], fa[o2])
+            g = fb[lone]
+            return t0 * t1 * t2 * _tet_fraction(g, g + t0 * (fb[o0] - g), g + t1 * (fb[o1] - g),
+                                                 g + t2 * (fb[o2] - g))
+        # the prism of the three negative vertices and their crossings toward the lone one
+        t0 = _crossing(fa[o0], fa[lone])
+        t1 = _crossing(fa[o1], fa[lone])
+        t2 = _crossing(fa[o2], fa[lone])
+        g0 = fb[o0]
+        g1 = fb[o1]
+        g2 = fb[o2]
+        g3 = g0 + t0 * (fb[lone] - g0)
+        g4 = g1 + t1 * (fb[lone] - g1)
+        g5 = g2 + t2 * (fb[lone] - g2)
+        return (t0 * _tet_fraction(g0, g1, g2, g3)
+                + (1.0 - t0) * t1 * _tet_fraction(g1, g2, g3, g4)
+                + (1.0 - t0) * (1.0 - t1) * t2 * _tet_fraction(g2, g3, g4, g5))
+    i0 = -1
+    i1 = -1
+    j0 = -1
+    j1 = -1
+    for a in range(4):
+        if fa[a] < 0.0:
+            if i0 < 0:
+                i0 = a
+            else:
+                i1 = a
+        elif j0 < 0:
+            j0 = a
+        else:
+            j1 = a
+    s = _crossing(fa[i0], fa[j0])
+    u = _crossing(fa[i0], fa[j1])
+    v = _crossing(fa[i1], fa[j0])
+    w = _crossing(fa[i1], fa[j1])
+    g0 = fb[i0]
+    g1 = g0 + s * (fb[j0] - g0)
+    g2 = g0 + u * (fb[j1] - g0)
+    g3 = fb[i1]
+    g4 = g3 + v * (fb[j0] - g3)
+    g5 = g3 + w * (fb[j1] - g3)
+    return (s * u * _tet_fraction(g0, g1, g2, g3)
+            + u * v * (1.0 - s) * _tet_fraction(g1, g2, g3, g4)
+            + v * w * (1.0 - u) * _tet_fraction(g2, g3, g4, g5))
+
+
 def cell_fractions_3d(x, y, z, phi_a, phi_b, known=None):
     """Liquid fraction (nx, ny, nz) of every hexahedron of the lattice where phi_a and phi_b
     (nx+1, ny+1, nz+1) are both negative. ``known`` (nx, ny, nz): the fractions with phi_a
@@ -338,13 +324,8 @@ def _cell_fractions_3d(x, y, z, phi_a, phi_b, known):
     ny = y.shape[0] - 1
     nz = z.shape[0] - 1
     out = np.empty((nx, ny, nz))
-    cp = np.empty((8, 3))
     ca = np.empty(8)
     cb = np.empty(8)
-    tp = np.empty((4, 3))
-    ta = np.empty(4)
-    tb = np.empty(4)
-    h3 = (x[1] - x[0]) * (y[1] - y[0]) * (z[1] - z[0])
     for i in range(nx):
         for j in range(ny):
             for k in range(nz):
@@ -355,9 +336,6 @@ def _cell_fractions_3d(x, y, z, phi_a, phi_b, known):
                     di, dj, dk = c & 1, (c >> 1) & 1, (c >> 2) & 1
                     ca[c] = phi_a[i + di, j + dj, k + dk]
                     cb[c] = phi_b[i + di, j + dj, k + dk]
-                    cp[c, 0] = x[i + di]
-                    cp[c, 1] = y[j + dj]
-                    cp[c, 2] = z[k + dk]
                     if ca[c] < 0.0 and cb[c] < 0.0:
                         inside += 1
                     out_a += ca[c] >= 0.0
@@ -371,14 +349,13 @@ def _cell_fractions_3d(x, y, z, phi_a, phi_b, known):
                 if out_b == 0 and np.isfinite(known[i, j, k]):
                     out[i, j, k] = known[i, j, k]
                     continue
-                vol = 0.0
+                # the six Kuhn tetrahedra of a box each hold a sixth of it
+                frac = 0.0
                 for t in range(6):
-                    for r in range(4):
-                        tp[r] = cp[_KUHN[t, r]]
-                        ta[r] = ca[_KUHN[t, r]]
-                        tb[r] = cb[_KUHN[t, r]]
-                    vol += _tet_wet_volume2(tp, ta, tb)
-                out[i, j, k] = vol / h3
+                    frac += _tet_fraction2(ca[_KUHN[t, 0]], ca[_KUHN[t, 1]], ca[_KUHN[t, 2]],
+                                           ca[_KUHN[t, 3]], cb[_KUHN[t, 0]], cb[_KUHN[t, 1]],
+                                           cb[_KUHN[t, 2]], cb[_KUHN[t, 3]])
+                out[i, j, k] = frac / 6.0
     return out
 
 
