@@ -168,25 +168,3 @@ def test_the_compiled_jacobi_cg_takes_scipys_iterations():
     assert abs(ours.iterations - count[0]) <= 1 and count[0] > 50
     np.testing.assert_allclose(x, reference, rtol=1e-8)
     assert ours.residual <= TOLERANCE
-
-
-def test_the_compiled_jacobi_bicgstab_takes_scipys_iterations():
-    # the nonsymmetric momentum systems' method: SciPy's bicgstab with the inverse diagonal
-    import scipy.sparse.linalg as sla
-
-    from fluid.linear import JacobiBiCGSTAB
-
-    n = 10
-    a = (convection_diffusion(n) + sp.diags(np.random.default_rng(7).uniform(0, 2, n**3))
-         + 0.3 * poisson(n)).tocsr()
-    b = np.random.default_rng(8).random(n**3)
-    inverse = 1.0 / a.diagonal()
-    count = [0]
-    reference, info = sla.bicgstab(a, b, rtol=TOLERANCE, atol=0.0,
-                                   M=sla.LinearOperator(a.shape, matvec=lambda v: inverse * v),
-                                   callback=lambda _: count.__setitem__(0, count[0] + 1))
-    assert info == 0
-    x, ours = JacobiBiCGSTAB(TOLERANCE, 2000).solve(a, b, np.zeros(n**3))
-    assert abs(ours.iterations - count[0]) <= 1 and count[0] > 5
-    np.testing.assert_allclose(x, reference, rtol=1e-8)
-    assert ours.residual <= TOLERANCE
