@@ -122,14 +122,19 @@ def fill_variables(sweep: Sweep, results: dict) -> tuple:
               if "target_fill_fraction" in r.get("frames", {})}
     if not framed:
         return None, {}
+    # a frame recorded between requested fills (a coupled run's periodic frames) has none: NaN
     fills = sorted({round(float(f), 12) for fr in framed.values()
-                    for f in fr["target_fill_fraction"]})
+                    for f in fr["target_fill_fraction"] if np.isfinite(f)})
+    if not fills:
+        return None, {}
     dims = ["fill"] + [a.name for a in sweep.axes]
     names = list(FILL_QUANTITIES) + (["shape_error"] if sweep.reference in framed else [])
     values = {n: np.full((len(fills),) + sweep.shape, np.nan) for n in names}
     for case in (c for c in sweep.cases if c.name in framed):
         frames = framed[case.name]
         for k, target in enumerate(frames["target_fill_fraction"]):
+            if not np.isfinite(target):
+                continue
             i = fills.index(round(float(target), 12))
             for name in FILL_QUANTITIES:
                 if name in frames:

@@ -252,3 +252,26 @@ def test_a_scheduler_that_did_not_answer_leaves_no_default_client(tmp_path):
     path, out = _files(tmp_path), tmp_path / "out"
     assert main(["sweep", str(path), "--out", str(out), "--scheduler", "nonsense:::"]) == 2
     assert get_scheduler() is None
+
+
+def test_frames_between_requested_fills_are_left_out_of_the_fill_axis():
+    # a coupled run records frames every few windows (no requested fill: NaN) besides those
+    # at every 0.1 of tank fraction; a sweep of such runs gathers the latter only
+    from types import SimpleNamespace
+
+    from fsi.sweep_data import fill_variables
+
+    nan = float("nan")
+    axis = SimpleNamespace(name="pressure_tolerance")
+    cases = [SimpleNamespace(name="a", index=(0,)), SimpleNamespace(name="b", index=(1,))]
+    sweep = SimpleNamespace(axes=[axis], shape=(2,), cases=cases, reference=None)
+    frames = {"a": {"target_fill_fraction": np.array([nan, 0.2, nan, 0.3]),
+                    "tank_fraction": np.array([0.15, 0.2, 0.25, 0.3])},
+              "b": {"target_fill_fraction": np.array([nan, nan]),
+                    "tank_fraction": np.array([0.1, 0.12])}}
+    fills, data = fill_variables(sweep, {n: {"frames": f} for n, f in frames.items()})
+    assert fills == [0.2, 0.3]
+    np.testing.assert_array_equal(data["fill_tank_fraction"][1], [[0.2, nan], [0.3, nan]])
+    only_between = {"b": {"frames": frames["b"]}}
+    assert fill_variables(SimpleNamespace(axes=[axis], shape=(2,), cases=cases[1:],
+                                          reference=None), only_between) == (None, {})
