@@ -185,6 +185,30 @@ _KUHN = np.array([
 
 
 @njit(**JIT, inline="always")
+def _signs(f):
+    """(negatives, i0, i1, j0, j1) of a tetrahedron's vertex values f (4-tuple): how many are
+    negative, the first two negative vertices and the first two others (-1: none). The
+    vertex apart in sign is i0 when one is negative, j0 when three are."""
+    negatives = 0
+    i0 = -1
+    i1 = -1
+    j0 = -1
+    j1 = -1
+    for a in range(4):
+        if f[a] < 0.0:
+            negatives += 1
+            if i0 < 0:
+                i0 = a
+            elif i1 < 0:
+                i1 = a
+        elif j0 < 0:
+            j0 = a
+        elif j1 < 0:
+            j1 = a
+    return negatives, i0, i1, j0, j1
+
+
+@njit(**JIT, inline="always")
 def _tet_fraction(f0, f1, f2, f3):
     """The fraction of a tetrahedron where the linear function with vertex values f0 .. f3
     is negative. One vertex apart from the others in sign: the corner tetrahedron at it,
@@ -193,39 +217,18 @@ def _tet_fraction(f0, f1, f2, f3):
     s u + u v (1 - s) + v w (1 - u) with s, u the crossings from a0 toward b0, b1 and v, w
     from a1."""
     f = (f0, f1, f2, f3)
-    neg = 0
-    for a in range(4):
-        if f[a] < 0.0:
-            neg += 1
+    neg, a0, a1, b0, b1 = _signs(f)
     if neg == 0:
         return 0.0
     if neg == 4:
         return 1.0
     if neg == 1 or neg == 3:
-        lone_negative = neg == 1
-        lone = 0
-        for a in range(4):
-            if (f[a] < 0.0) == lone_negative:
-                lone = a
+        lone = a0 if neg == 1 else b0
         corner = 1.0
         for b in range(4):
             if b != lone:
                 corner *= _crossing(f[lone], f[b])
-        return corner if lone_negative else 1.0 - corner
-    a0 = -1
-    a1 = -1
-    b0 = -1
-    b1 = -1
-    for a in range(4):
-        if f[a] < 0.0:
-            if a0 < 0:
-                a0 = a
-            else:
-                a1 = a
-        elif b0 < 0:
-            b0 = a
-        else:
-            b1 = a
+        return corner if neg == 1 else 1.0 - corner
     s = _crossing(f[a0], f[b0])
     u = _crossing(f[a0], f[b1])
     v = _crossing(f[a1], f[b0])
@@ -242,24 +245,17 @@ def _tet_fraction2(a0, a1, a2, a3, b0, b1, b2, b3):
     interpolated to their corners and taken by :func:`_tet_fraction` in each."""
     fa = (a0, a1, a2, a3)
     fb = (b0, b1, b2, b3)
-    neg = 0
-    for a in range(4):
-        if fa[a] < 0.0:
-            neg += 1
+    neg, i0, i1, j0, j1 = _signs(fa)
     if neg == 0:
         return 0.0
     if neg == 4:
         return _tet_fraction(b0, b1, b2, b3)
     if neg == 1 or neg == 3:
-        lone_negative = neg == 1
-        lone = 0
-        for a in range(4):
-            if (fa[a] < 0.0) == lone_negative:
-                lone = a
+        lone = i0 if neg == 1 else j0
         o0 = (lone + 1) % 4
         o1 = (lone + 2) % 4
         o2 = (lone + 3) % 4
-        if lone_negative:
+        if neg == 1:
             # the corner tetrahedron at the lone vertex
             t0 = _crossing(fa[lone], fa[o0])
             t1 = _crossing(fa[lone], fa[o1])
@@ -280,20 +276,6 @@ def _tet_fraction2(a0, a1, a2, a3, b0, b1, b2, b3):
         return (t0 * _tet_fraction(g0, g1, g2, g3)
                 + (1.0 - t0) * t1 * _tet_fraction(g1, g2, g3, g4)
                 + (1.0 - t0) * (1.0 - t1) * t2 * _tet_fraction(g2, g3, g4, g5))
-    i0 = -1
-    i1 = -1
-    j0 = -1
-    j1 = -1
-    for a in range(4):
-        if fa[a] < 0.0:
-            if i0 < 0:
-                i0 = a
-            else:
-                i1 = a
-        elif j0 < 0:
-            j0 = a
-        else:
-            j1 = a
     s = _crossing(fa[i0], fa[j0])
     u = _crossing(fa[i0], fa[j1])
     v = _crossing(fa[i1], fa[j0])
