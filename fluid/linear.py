@@ -2,8 +2,12 @@
 
 Every solver takes a SciPy CSR matrix, a right-hand side and a start vector and stops on
 FiPy's ``RHS`` criterion, ||b - A x|| <= tolerance ||b|| (FiPy's SciPy suite passes the same
-relative tolerance to the same SciPy Krylov functions). Only SciPy and PyAMG install on this
-machine from the package registry (PETSc, Trilinos and pyamgx do not).
+relative tolerance to the same SciPy Krylov functions). ``pcg-jacobi`` runs SciPy's ``cg``
+iteration compiled (:class:`JacobiCG`: SciPy's Python loop costs about 50 us per iteration
+whatever the size), and the solvers that build their preconditioner for each solve leave
+out the rows that hold only their diagonal (:func:`decoupled_rows`: the pinned cells
+outside the liquid). Only SciPy and PyAMG install on this machine from the package registry
+(PETSc, Trilinos and pyamgx do not).
 
 A preconditioner built from one step's matrix stays valid for the next steps' matrices, which
 differ only where the moving interface changed the coefficients: the ``pcg-amg`` and
