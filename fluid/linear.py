@@ -302,7 +302,9 @@ class JacobiCG(KrylovSolver):
 
     def _run(self, matrix, rhs, x0, preconditioner, atol=None):
         m = sp.csr_matrix(matrix)
-        m.sum_duplicates()
+        if not m.has_canonical_format:  # summed on a copy: the caller's matrix stays as given
+            m = m.copy()
+            m.sum_duplicates()
         rhs = np.ascontiguousarray(rhs, dtype=float)
         target = self.tolerance * float(np.linalg.norm(rhs)) if atol is None else atol
         diagonal = m.diagonal()
