@@ -92,11 +92,16 @@ def _diagonal_solve(matrix, rhs, tolerance: float):
 # ---------------------------------------------------------------- preconditioners
 
 
+def _inverse_diagonal(matrix) -> np.ndarray:
+    """1 / diag(A) (n,), 1 where the diagonal is zero."""
+    diagonal = matrix.diagonal()
+    return np.where(diagonal != 0, 1.0 / np.where(diagonal != 0, diagonal, 1.0), 1.0)
+
+
 def _jacobi(matrix):
     # applied as a product with the inverse diagonal: the same numbers as the diagonal
     # matrix's product (one term per row), without building that matrix at every solve
-    diagonal = matrix.diagonal()
-    inverse = np.where(diagonal != 0, 1.0 / np.where(diagonal != 0, diagonal, 1.0), 1.0)
+    inverse = _inverse_diagonal(matrix)
     return sla.LinearOperator(matrix.shape, matvec=lambda x: inverse * np.ravel(x),
                               dtype=inverse.dtype)
 
@@ -307,8 +312,7 @@ class JacobiCG(KrylovSolver):
             m.sum_duplicates()
         rhs = np.ascontiguousarray(rhs, dtype=float)
         target = self.tolerance * float(np.linalg.norm(rhs)) if atol is None else atol
-        diagonal = m.diagonal()
-        inverse = np.where(diagonal != 0, 1.0 / np.where(diagonal != 0, diagonal, 1.0), 1.0)
+        inverse = _inverse_diagonal(m)
         x = np.array(x0, dtype=float)
         count, converged = _jacobi_cg(m.indptr, m.indices, m.data, rhs, x, inverse, target,
                                       self.iterations)
