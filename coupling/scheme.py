@@ -17,7 +17,10 @@ the accelerated vector is each accelerated field scaled by its norm at the windo
 iteration (so fields of different units weigh alike in the quasi-Newton least squares).
 On reaching ``max_iterations`` without convergence the scheme raises :class:`CouplingError`
 (``on_max_iterations = "error"``), accepts the last iterate and logs it (``"accept"``; while
-every measured residual is at most ``accept_residual``, else it raises as ``"error"`` does), or
+every measured residual is at most ``accept_residual``, else it raises as ``"error"`` does),
+accepts the window's best iterate in the same way (``"accept-best"``: the iteration whose
+largest residual over its measure's limit was smallest, its two solves repeated from the
+window's start with that iteration's input, one iteration more), or
 redoes the window once from its start by the explicit scheme (``"explicit"``: the first
 participant with the window's predicted data, the second with the first's output; both
 restored from their checkpoints, the acceleration's reused secants dropped) and logs it.
@@ -50,7 +53,7 @@ log = logging.getLogger(__name__)
 SCHEMES: dict[str, Callable] = {}
 IMPLICIT_SCHEMES: set[str] = set()
 """Names in SCHEMES that iterate each window until the convergence measures hold."""
-ON_MAX_ITERATIONS = ("error", "accept", "explicit")
+ON_MAX_ITERATIONS = ("error", "accept", "accept-best", "explicit")
 EXTRAPOLATION_WEIGHTS = {0: (1.0,), 1: (2.0, -1.0), 2: (2.5, -2.0, 0.5)}
 """Weights of x^n, x^{n-1}, x^{n-2} in the prediction of a window's starting values."""
 
@@ -338,6 +341,23 @@ def _check_finite(fields: dict, source: str, window, t: float, iteration: int) -
                             "window diverged)", window)
 
 
+class _BestIterate:
+    """The iteration of a window whose largest residual over its measure's limit is the
+    smallest so far (``iteration``) and a copy of its input fields (``input``)."""
+
+    def __init__(self, measures):
+        self.measures = measures
+        self.score = np.inf
+        self.iteration = 0
+        self.input: dict = {}
+
+    def offer(self, iteration: int, x: dict, residuals: dict) -> None:
+        score = max(residuals[m.field] / m.limit for m in self.measures)
+        if score < self.score:
+            self.score, self.iteration = score, iteration
+            self.input = {name: np.array(value, copy=True) for name, value in x.items()}
+
+
 def _pick(data: dict, names) -> dict:
     return {n: data[n] for n in names}
 
@@ -351,6 +371,8 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
     x = dict(data)  # current input of every field
     acceleration.start_window()
     packer = None
+    best = _BestIterate(settings.measures) if settings.on_max_iterations == "accept-best" \
+        else None
     for it in range(1, settings.max_iterations + 1):
         if it > 1:
             first.restore_checkpoint(checkpoints[0])
@@ -363,6 +385,8 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         residuals = {m.field: m.residual(x[m.field], x_tilde[m.field]) for m in settings.measures}
         window.residuals.append(residuals)
         window.iterations = it
+        if best is not None:
+            best.offer(it, x, residuals)
         if window_converged(settings.measures, residuals):
             window.converged = True
             if packer is not None:
@@ -380,7 +404,21 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
                f"iterations; last residuals {window.residuals[-1]}")
         if settings.on_max_iterations == "error":
             raise CouplingError(msg, window)
-        if (settings.on_max_iterations == "accept"
+        if best is not None and best.iteration < window.iterations:
+            # the best iterate's solves again, from the window's start with its input
+            first.restore_checkpoint(checkpoints[0])
+            second.restore_checkpoint(checkpoints[1])
+            out1 = solve1(t, dt, _pick(best.input, second.write_fields))
+            out2 = solve2(t, dt, _pick(best.input if parallel else out1, first.write_fields))
+            x_tilde = {**best.input, **out1, **out2}
+            _check_finite({m.field: x_tilde[m.field] for m in settings.measures},
+                          "a participant returned", window, t, window.iterations + 1)
+            window.residuals.append({m.field: m.residual(best.input[m.field], x_tilde[m.field])
+                                     for m in settings.measures})
+            window.iterations += 1
+            msg = (f"{msg}; the best, iteration {best.iteration}, repeated: residuals "
+                   f"{window.residuals[-1]}")
+        if (settings.on_max_iterations in ("accept", "accept-best")
                 and max(window.residuals[-1].values()) > settings.accept_residual):
             raise CouplingError(f"{msg}, above accept_residual = {settings.accept_residual:g}",
                                 window)

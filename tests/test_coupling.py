@@ -340,3 +340,29 @@ def test_implicit_scheme_without_measures_raises(scheme):
 def test_registries_list_required_names():
     assert {"explicit", "implicit-serial", "implicit-parallel"} <= set(SCHEMES)
     assert {"constant", "aitken", "iqn-ils"} <= set(ACCELERATIONS)
+
+
+def test_accept_best_keeps_the_window_s_smallest_residual_iterate():
+    """on_max_iterations = "accept-best": a window stopped at max_iterations keeps the
+    iteration whose residuals were smallest, not the last. On a diverging iteration (gain
+    9, constant relaxation) the residuals grow, so the best is not the last; the kept
+    window's solves are repeated from its start with the best iteration's input, so that its
+    residual is the best one's exactly and the participants' states (integrated over the
+    window) are those of a run stopped at that iteration."""
+    def stalled(on_max, max_iterations):
+        s, f = _pair(gain=9.0, seed=1)
+        settings = _settings("implicit-serial", "constant")
+        settings.max_iterations = max_iterations
+        settings.on_max_iterations = on_max
+        window = run(s, f, settings, dt=0.1, n_windows=1).windows[0]
+        return window, s.state, f.state
+
+    last, _, _ = stalled("accept", 6)
+    scores = [max(r.values()) for r in last.residuals]
+    best = int(np.argmin(scores)) + 1
+    assert best < 6 and scores[-1] > 2 * min(scores)
+    kept, s_state, f_state = stalled("accept-best", 6)
+    assert not kept.converged and kept.iterations == 7
+    assert kept.residuals[-1] == last.residuals[best - 1]
+    _, s_ref, f_ref = stalled("accept", best)
+    assert (s_state, f_state) == (s_ref, f_ref)

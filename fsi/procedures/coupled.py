@@ -230,8 +230,9 @@ COUPLING = Table({
     "max_iterations": Key(int, 60, lambda v: 1 <= v <= 10_000, "1..10000",
                           "coupling iterations per window at most"),
     "on_max_iterations": Key(str, "error", *one_of(ON_MAX_ITERATIONS),
-                             "stop with an error, accept the window and log it, or redo it once by "
-                             "the explicit scheme and log it"),
+                             "stop with an error, accept the window's last iterate and log it, "
+                             "accept its best iterate (smallest residuals, its solves repeated) "
+                             "and log it, or redo it once by the explicit scheme and log it"),
     "accept_residual": Key(float, float("inf"), lambda v: v > 0, "> 0 (inf: any)",
                            "on_max_iterations = accept: the largest residual (relative change "
                            "per iteration, pressure or positions) a window that did not "
