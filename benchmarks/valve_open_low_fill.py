@@ -58,6 +58,12 @@ MIXING_NO_REUSE = {"coupling": dict(mixing=0.1, reuse=0)}
 WINDOW_CELLS = dict(MIXING_NO_REUSE, fluid=dict(pressure_cells="window"))
 """Those and the pressure fitted from each window's starting cells (README, 'The pressure
 cells of a window')."""
+VALVE_FILL_COUPLING = dict(WINDOW_CELLS, dynamics=dict(node_damping=0.03),
+                           coupling=dict(WINDOW_CELLS["coupling"],
+                                         interface_velocity="window-mean",
+                                         on_max_iterations="accept-best"))
+"""Those, the window-mean velocity, the node damping and the best iterate of a stalled window:
+the bundled valve fill's coupling (README, 'Keeping a stalled window's best iterate')."""
 END_FILL = 0.9
 CASES = {
     "1e-3, 1 ms": dict(flow=1e-3, window=1e-3, end_time=0.1),
@@ -104,15 +110,9 @@ CASES = {
         changes=dict(WINDOW_CELLS, coupling=dict(WINDOW_CELLS["coupling"],
                                                  interface_velocity="window-mean"))),
     "1e-2, 1 ms, valve-fill's coupling": dict(
-        flow=1e-2, window=1e-3, end_time=0.1,
-        changes=dict(WINDOW_CELLS, dynamics=dict(node_damping=0.03),
-                     coupling=dict(WINDOW_CELLS["coupling"], interface_velocity="window-mean",
-                                   on_max_iterations="accept-best"))),
+        flow=1e-2, window=1e-3, end_time=0.1, changes=VALVE_FILL_COUPLING),
     "1e-2, 1 ms, valve-fill's coupling, to 0.3 s": dict(
-        flow=1e-2, window=1e-3, end_time=0.3,
-        changes=dict(WINDOW_CELLS, dynamics=dict(node_damping=0.03),
-                     coupling=dict(WINDOW_CELLS["coupling"], interface_velocity="window-mean",
-                                   on_max_iterations="accept-best"))),
+        flow=1e-2, window=1e-3, end_time=0.3, changes=VALVE_FILL_COUPLING),
     "3e-3, 1 ms, mixing 0.1, no reuse": dict(
         flow=3e-3, window=1e-3, end_time=0.05, changes=MIXING_NO_REUSE),
     "from 0.5, clamped, 1e-2, 1 ms, mixing 0.1": dict(

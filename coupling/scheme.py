@@ -373,7 +373,10 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
     packer = None
     best = _BestIterate(settings.measures) if settings.on_max_iterations == "accept-best" \
         else None
-    for it in range(1, settings.max_iterations + 1):
+
+    def iteration(x: dict, it: int):
+        """Both solves from the window's start with input ``x``, logged as iteration ``it``:
+        (x_tilde, residuals)."""
         if it > 1:
             first.restore_checkpoint(checkpoints[0])
             second.restore_checkpoint(checkpoints[1])
@@ -385,6 +388,10 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         residuals = {m.field: m.residual(x[m.field], x_tilde[m.field]) for m in settings.measures}
         window.residuals.append(residuals)
         window.iterations = it
+        return x_tilde, residuals
+
+    for it in range(1, settings.max_iterations + 1):
+        x_tilde, residuals = iteration(x, it)
         if best is not None:
             best.offer(it, x, residuals)
         if window_converged(settings.measures, residuals):
@@ -405,19 +412,9 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         if settings.on_max_iterations == "error":
             raise CouplingError(msg, window)
         if best is not None and best.iteration < window.iterations:
-            # the best iterate's solves again, from the window's start with its input
-            first.restore_checkpoint(checkpoints[0])
-            second.restore_checkpoint(checkpoints[1])
-            out1 = solve1(t, dt, _pick(best.input, second.write_fields))
-            out2 = solve2(t, dt, _pick(best.input if parallel else out1, first.write_fields))
-            x_tilde = {**best.input, **out1, **out2}
-            _check_finite({m.field: x_tilde[m.field] for m in settings.measures},
-                          "a participant returned", window, t, window.iterations + 1)
-            window.residuals.append({m.field: m.residual(best.input[m.field], x_tilde[m.field])
-                                     for m in settings.measures})
-            window.iterations += 1
+            x_tilde, residuals = iteration(best.input, window.iterations + 1)
             msg = (f"{msg}; the best, iteration {best.iteration}, repeated: residuals "
-                   f"{window.residuals[-1]}")
+                   f"{residuals}")
         if (settings.on_max_iterations in ("accept", "accept-best")
                 and max(window.residuals[-1].values()) > settings.accept_residual):
             raise CouplingError(f"{msg}, above accept_residual = {settings.accept_residual:g}",
