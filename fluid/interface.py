@@ -10,11 +10,12 @@ velocity at the closest point, and the sign everywhere else by flood fill from t
 (kept inside the tank by a barrier mask where the caller gives one).
 Signs near edges and vertices use angle-weighted pseudo-normals (Baerentzen & Aanaes 2005).
 On a *closed* triangulated surface (every oriented edge cancelled by its reverse, e.g. the
-membrane closed by a can outside the tank) the signs in the band come from the generalized
-winding number instead (Jacobson, Kavan & Sorkine-Hornung 2013: the solid angle of the surface
-over 4 pi, 1 inside, 0 outside): it stays exact next to folds whose sheets touch or cross,
-where the closest point, and with it the pseudo-normal sign, jumps between sheets. On a closed
-surface that number is an integer, counted exactly by the signed crossings of a vertical ray
+membrane closed by a can outside the tank) every sign, in the band and out of it, comes from
+the generalized winding number instead (Jacobson, Kavan & Sorkine-Hornung 2013: the solid
+angle of the surface over 4 pi, 1 inside, 0 outside), and neither pseudo-normals nor a flood
+fill are computed: it stays exact next to folds whose sheets touch or cross, where the
+closest point, and with it the pseudo-normal sign, jumps between sheets. On a closed surface
+that number is an integer, counted exactly by the signed crossings of a vertical ray
 (:func:`_winding_columns`, one pass over the faces for the whole lattice).
 Past the open rim of the surface (the membrane's clamped edge on the tank wall) the surface is
 continued flat: the value is the distance to the last face's plane (segment's line), so the
@@ -79,10 +80,15 @@ class Interface:
         return self.faces.shape[1] == 2
 
     @cached_property
+    def face_normals(self) -> np.ndarray:
+        """Of a triangulated surface: unit face normals (m, 3), computed once per interface."""
+        return _face_normals(self.points, self.faces)
+
+    @cached_property
     def pseudo_normals(self) -> tuple:
         """Of a triangulated surface: face, vertex and edge normals and the rim (see
         :func:`_pseudo_normals_3d`), computed once per interface."""
-        return _pseudo_normals_3d(self.points, self.faces)
+        return _pseudo_normals_3d(self.points, self.faces, self.face_normals)
 
     def with_state(self, points: np.ndarray, velocities: np.ndarray,
                    liquid_volume: float | None = None) -> "Interface":
@@ -141,13 +147,19 @@ def _scatter_rows(index, values, rows):
     return np.stack([np.bincount(index, values[:, c], rows) for c in range(3)], axis=1)
 
 
-def _pseudo_normals_3d(points, faces):
-    """Unit face normals (m, 3), angle-weighted vertex normals (n, 3), per-face-edge
-    normals (m, 3, 3) (edge k joins face vertices k and k+1; sum of the adjacent faces), and
-    the rim: edges with one face (m, 3) and their vertices (n,)."""
+def _face_normals(points, faces):
+    """Unit normals (m, 3) of the triangles (m, 3): (b - a) x (c - a) normalised."""
     a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
     n = np.cross(b - a, c - a)
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    return n
+
+
+def _pseudo_normals_3d(points, faces, n):
+    """With the unit face normals ``n`` (m, 3): those, the angle-weighted vertex normals
+    (n, 3), per-face-edge normals (m, 3, 3) (edge k joins face vertices k and k+1; sum of the
+    adjacent faces), and the rim: edges with one face (m, 3) and their vertices (n,)."""
+    a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
     vertex = np.zeros_like(points)
     corners = (a, b, c)
     for k in range(3):
@@ -230,30 +242,29 @@ def _band_segments(origin, spacing, shape, band, p2, v2, seg, seg_n, vert_n, is_
 
 
 @njit(**JIT, inline="always")
-def _dot3(ax, ay, az, bx, by, bz):
-    return ax * bx + ay * by + az * bz
-
-
-@njit(**JIT)
-def _closest_on_triangle(px, py, pz, a, b, c):
+def _closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz):
     """Closest point of triangle abc to p: (barycentric u, v, w, region) with region 0 = face,
-    1..3 = edge ab, bc, ca, 4..6 = vertex a, b, c (Ericson, Real-Time Collision Detection)."""
-    abx, aby, abz = b[0] - a[0], b[1] - a[1], b[2] - a[2]
-    acx, acy, acz = c[0] - a[0], c[1] - a[1], c[2] - a[2]
-    d1 = _dot3(abx, aby, abz, px - a[0], py - a[1], pz - a[2])
-    d2 = _dot3(acx, acy, acz, px - a[0], py - a[1], pz - a[2])
+    1..3 = edge ab, bc, ca, 4..6 = vertex a, b, c (Ericson, Real-Time Collision Detection).
+    Corners and point as scalars (m), so that the kernel keeps them in registers."""
+    abx, aby, abz = bx - ax, by - ay, bz - az
+    acx, acy, acz = cx - ax, cy - ay, cz - az
+    apx, apy, apz = px - ax, py - ay, pz - az
+    d1 = abx * apx + aby * apy + abz * apz
+    d2 = acx * apx + acy * apy + acz * apz
     if d1 <= 0.0 and d2 <= 0.0:
         return 1.0, 0.0, 0.0, 4
-    d3 = _dot3(abx, aby, abz, px - b[0], py - b[1], pz - b[2])
-    d4 = _dot3(acx, acy, acz, px - b[0], py - b[1], pz - b[2])
+    bpx, bpy, bpz = px - bx, py - by, pz - bz
+    d3 = abx * bpx + aby * bpy + abz * bpz
+    d4 = acx * bpx + acy * bpy + acz * bpz
     if d3 >= 0.0 and d4 <= d3:
         return 0.0, 1.0, 0.0, 5
     vc = d1 * d4 - d3 * d2
     if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
         v = d1 / (d1 - d3)
         return 1.0 - v, v, 0.0, 1
-    d5 = _dot3(abx, aby, abz, px - c[0], py - c[1], pz - c[2])
-    d6 = _dot3(acx, acy, acz, px - c[0], py - c[1], pz - c[2])
+    cpx, cpy, cpz = px - cx, py - cy, pz - cz
+    d5 = abx * cpx + aby * cpy + abz * cpz
+    d6 = acx * cpx + acy * cpy + acz * cpz
     if d6 >= 0.0 and d5 <= d6:
         return 0.0, 0.0, 1.0, 6
     vb = d5 * d2 - d1 * d6
@@ -272,51 +283,57 @@ def _closest_on_triangle(px, py, pz, a, b, c):
 
 @njit(**JIT)
 def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_n, edge_n,
-                    rim_edge, rim_vertex, dist, vel):
+                    rim_edge, rim_vertex, signed, dist, vel):
     """Signed distance and closest-point velocity on the 3-D lattice within ``band`` (m).
-    ``rim_edge`` (m, 3) / ``rim_vertex`` (n,): on the open boundary of the surface."""
-    q = np.empty(3)
-    lo = np.empty(3, dtype=np.int64)
-    hi = np.empty(3, dtype=np.int64)
+    ``rim_edge`` (m, 3) / ``rim_vertex`` (n,): on the open boundary of the surface.
+    ``signed`` False: the distance only, unsigned (a closed surface, whose signs the winding
+    number gives; ``vert_n``, ``edge_n``, ``rim_edge`` and ``rim_vertex`` are not read)."""
     # a lattice point is skipped where a lower bound of its distance to the triangle (to the
     # triangle's plane, to its bounding sphere) exceeds the distance it already holds by
     # more than round-off: the closest-point test would not have replaced it either
     margin = 1e-9 * min(spacing[0], spacing[1], spacing[2])
     for f in range(tri.shape[0]):
-        a = p[tri[f, 0]]
-        b = p[tri[f, 1]]
-        c = p[tri[f, 2]]
-        nf = face_n[f]
-        m0 = (a[0] + b[0] + c[0]) / 3.0
-        m1 = (a[1] + b[1] + c[1]) / 3.0
-        m2 = (a[2] + b[2] + c[2]) / 3.0
-        radius = np.sqrt(max((a[0] - m0) ** 2 + (a[1] - m1) ** 2 + (a[2] - m2) ** 2,
-                             (b[0] - m0) ** 2 + (b[1] - m1) ** 2 + (b[2] - m2) ** 2,
-                             (c[0] - m0) ** 2 + (c[1] - m1) ** 2 + (c[2] - m2) ** 2))
-        for ax in range(3):
-            mn = min(a[ax], b[ax], c[ax]) - band
-            mx = max(a[ax], b[ax], c[ax]) + band
-            lo[ax] = max(0, int(np.ceil((mn - origin[ax]) / spacing[ax])))
-            hi[ax] = min(shape[ax] - 1, int(np.floor((mx - origin[ax]) / spacing[ax])))
-        for i in range(lo[0], hi[0] + 1):
-            q[0] = origin[0] + i * spacing[0]
-            for j in range(lo[1], hi[1] + 1):
-                q[1] = origin[1] + j * spacing[1]
-                for k in range(lo[2], hi[2] + 1):
-                    q[2] = origin[2] + k * spacing[2]
+        ia, ib, ic = tri[f, 0], tri[f, 1], tri[f, 2]
+        ax, ay, az = p[ia, 0], p[ia, 1], p[ia, 2]
+        bx, by, bz = p[ib, 0], p[ib, 1], p[ib, 2]
+        cx, cy, cz = p[ic, 0], p[ic, 1], p[ic, 2]
+        n0, n1, n2 = face_n[f, 0], face_n[f, 1], face_n[f, 2]
+        m0 = (ax + bx + cx) / 3.0
+        m1 = (ay + by + cy) / 3.0
+        m2 = (az + bz + cz) / 3.0
+        radius = np.sqrt(max((ax - m0) ** 2 + (ay - m1) ** 2 + (az - m2) ** 2,
+                             (bx - m0) ** 2 + (by - m1) ** 2 + (bz - m2) ** 2,
+                             (cx - m0) ** 2 + (cy - m1) ** 2 + (cz - m2) ** 2))
+        i0 = max(0, int(np.ceil((min(ax, bx, cx) - band - origin[0]) / spacing[0])))
+        i1 = min(shape[0] - 1, int(np.floor((max(ax, bx, cx) + band - origin[0]) / spacing[0])))
+        j0 = max(0, int(np.ceil((min(ay, by, cy) - band - origin[1]) / spacing[1])))
+        j1 = min(shape[1] - 1, int(np.floor((max(ay, by, cy) + band - origin[1]) / spacing[1])))
+        k0 = max(0, int(np.ceil((min(az, bz, cz) - band - origin[2]) / spacing[2])))
+        k1 = min(shape[2] - 1, int(np.floor((max(az, bz, cz) + band - origin[2]) / spacing[2])))
+        for i in range(i0, i1 + 1):
+            q0 = origin[0] + i * spacing[0]
+            for j in range(j0, j1 + 1):
+                q1 = origin[1] + j * spacing[1]
+                for k in range(k0, k1 + 1):
+                    q2 = origin[2] + k * spacing[2]
                     held = abs(dist[i, j, k]) + margin
-                    if abs((q[0] - a[0]) * nf[0] + (q[1] - a[1]) * nf[1]
-                           + (q[2] - a[2]) * nf[2]) > held:
+                    if abs((q0 - ax) * n0 + (q1 - ay) * n1 + (q2 - az) * n2) > held:
                         continue
-                    s0, s1, s2 = q[0] - m0, q[1] - m1, q[2] - m2
-                    if s0 * s0 + s1 * s1 + s2 * s2 > (radius + held) ** 2:
+                    s0, s1, s2 = q0 - m0, q1 - m1, q2 - m2
+                    reach = radius + held
+                    if s0 * s0 + s1 * s1 + s2 * s2 > reach * reach:
                         continue
-                    u, v, w, region = _closest_on_triangle(q[0], q[1], q[2], a, b, c)
-                    r0 = q[0] - (u * a[0] + v * b[0] + w * c[0])
-                    r1 = q[1] - (u * a[1] + v * b[1] + w * c[1])
-                    r2 = q[2] - (u * a[2] + v * b[2] + w * c[2])
+                    u, v, w, region = _closest_on_triangle(q0, q1, q2, ax, ay, az, bx, by, bz,
+                                                           cx, cy, cz)
+                    r0 = q0 - (u * ax + v * bx + w * cx)
+                    r1 = q1 - (u * ay + v * by + w * cy)
+                    r2 = q2 - (u * az + v * bz + w * cz)
                     d = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
-                    if d < abs(dist[i, j, k]):
+                    if d >= abs(dist[i, j, k]):
+                        continue
+                    if not signed:
+                        dist[i, j, k] = d
+                    else:
                         on_rim = False
                         if region == 0:
                             n = face_n[f]
@@ -329,15 +346,14 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
                         if on_rim:
                             # past the open rim: distance to this face's plane (the surface
                             # continued flat), keeping the level set linear across the rim
-                            n = face_n[f]
-                            dd = (q[0] - a[0]) * n[0] + (q[1] - a[1]) * n[1] + (q[2] - a[2]) * n[2]
+                            dd = (q0 - ax) * n0 + (q1 - ay) * n1 + (q2 - az) * n2
                             dist[i, j, k] = dd if abs(dd) > 1e-300 else 1e-300
                         else:
                             side = r0 * n[0] + r1 * n[1] + r2 * n[2]
                             dist[i, j, k] = d if side >= 0.0 else -d
-                        for cc in range(3):
-                            vel[i, j, k, cc] = (u * vel_pts[tri[f, 0], cc] + v * vel_pts[tri[f, 1], cc]
-                                                + w * vel_pts[tri[f, 2], cc])
+                    for cc in range(3):
+                        vel[i, j, k, cc] = (u * vel_pts[ia, cc] + v * vel_pts[ib, cc]
+                                            + w * vel_pts[ic, cc])
 
 
 def is_closed(faces: np.ndarray) -> bool:
@@ -479,9 +495,10 @@ def lattice_distance(interface: Interface, origin, spacing, shape, band: float,
     origin, spacing: lattice point 0 and step per axis (m); shape: points per axis. A 2-D
     lattice is (r, z) and needs a meridian interface; a 3-D lattice needs triangles.
     Returns (dist shape, vel shape + (3,)); outside ``band`` dist is +-inf (sign by flood
-    fill) and vel is zero. ``barrier`` (bool, ``shape``): lattice points the flood fill must
-    not pass through, e.g. those outside the tank: a membrane whose rim lies on the tank wall
-    separates liquid from gas only inside the tank, and outside it both sides connect."""
+    fill, or on a closed surface by its winding number) and vel is zero. ``barrier`` (bool,
+    ``shape``): lattice points the flood fill must not pass through, e.g. those outside the
+    tank: an open membrane whose rim lies on the tank wall separates liquid from gas only
+    inside the tank, and outside it both sides connect (a closed surface needs none)."""
     shape = tuple(int(s) for s in shape)
     origin = np.asarray(origin, dtype=float)
     spacing = np.asarray(spacing, dtype=float)
@@ -502,14 +519,19 @@ def lattice_distance(interface: Interface, origin, spacing, shape, band: float,
     else:
         if interface.is_meridian:
             raise ValueError("a 3-D grid needs a triangulated interface ((m, 3) faces)")
-        face_n, vert_n, edge_n, rim_edge, rim_vertex = interface.pseudo_normals
         vel = np.zeros(shape + (3,))
-        _band_triangles(origin, spacing, np.array(shape), band, interface.points,
-                        interface.velocities, interface.faces, face_n, vert_n, edge_n, rim_edge,
-                        rim_vertex, dist, vel)
         if _edge_topology(interface.faces)[4]:
+            # closed: the winding number signs every lattice point, in the band and out of
+            # it, so neither the pseudo-normals nor the flood fill are needed
+            _band_triangles(origin, spacing, np.array(shape), band, interface.points,
+                            interface.velocities, interface.faces, interface.face_normals,
+                            np.zeros((0, 3)), np.zeros((0, 3, 3)), np.zeros((0, 3), dtype=bool),
+                            np.zeros(0, dtype=bool), False, dist, vel)
             inside = _winding_columns(origin, spacing, np.array(shape), interface.points,
                                       interface.faces) >= 1
-            band = np.isfinite(dist)
-            dist[band] = np.where(inside[band], -np.abs(dist[band]), np.abs(dist[band]))
+            return np.where(inside, -dist, dist), vel
+        face_n, vert_n, edge_n, rim_edge, rim_vertex = interface.pseudo_normals
+        _band_triangles(origin, spacing, np.array(shape), band, interface.points,
+                        interface.velocities, interface.faces, face_n, vert_n, edge_n, rim_edge,
+                        rim_vertex, True, dist, vel)
     return _flood_fill_sign(dist, barrier), vel

@@ -273,6 +273,27 @@ def test_lattice_distance_is_the_nearest_face_of_a_box():
     assert np.all((d[band] < 0) == inside[band])
 
 
+def test_a_closed_surface_signs_every_lattice_point_by_its_winding_number():
+    """Out of the band the side of a closed surface is its winding number too, not a flood
+    fill from the band: with a band (5 mm) thinner than the lattice spacing (20 mm) only the
+    layer 2.3 mm under the lid is in it, so a flood fill gives the 14 layers above the lid
+    the sign of that layer (12,600 points wrong); the winding number does not. A barrier
+    mask (which only a flood fill reads) changes nothing."""
+    a, zb, zt = 0.3, -0.3, 0.0123
+    box = np.array([[-a, -a, zb], [a, -a, zb], [a, a, zb], [-a, a, zb],
+                    [-a, -a, zt], [a, -a, zt], [a, a, zt], [-a, a, zt]])
+    faces = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                      [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+    x = -0.29 + 0.02 * np.arange(30)
+    X, Y, Z = np.meshgrid(x, x, x, indexing="ij")
+    inside = (np.abs(X) < a) & (np.abs(Y) < a) & (Z > zb) & (Z < zt)
+    surface = Interface(box, faces, np.zeros_like(box))
+    for barrier in (None, X > 0.2):
+        d, _ = lattice_distance(surface, [-0.29] * 3, [0.02] * 3, (30, 30, 30), 0.005, barrier)
+        assert 0 < np.isfinite(d).sum() < 0.1 * d.size
+        assert np.array_equal(d < 0, inside)
+
+
 def _solid_angle_winding(points, faces, lattice_points):
     """Generalized winding number (Jacobson et al. 2013): the solid angle of the surface seen
     from each point over 4 pi, by Van Oosterom & Strackee (1983)."""
