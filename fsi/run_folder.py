@@ -7,7 +7,10 @@ staging folder beside it, and put in place whole.
 * the result and its plots are written into ``.partial-<name>-*`` beside DIR; only when both
   are complete is it renamed to DIR (the earlier DIR, with ``--overwrite``, moved aside
   first and removed after).  A run that dies leaves DIR as it was and a ``.partial-``
-  folder that says what it is.
+  folder that says what it is;
+* a run stopped by a signal writes what it did to DIR and keeps its last checkpoint there
+  (``DIR/checkpoint.pkl``), so that ``--resume`` continues it as it would a killed run's
+  staging folder; the resumed run is staged anew and replaces DIR whole.
 """
 from __future__ import annotations
 
@@ -31,19 +34,25 @@ class RunFolder:
         self.out = Path(out)
         self.overwrite = overwrite
         self.staging: Path | None = None
-        self.resumed = resume
+        self.source: Path | None = None  # the checkpoint resumed from
         if resume:
-            self.staging = self.checkpoint().parent
+            self.source = self.checkpoint()
+            found = self.source.parent
+            # a killed run's staging folder is carried on; DIR itself (a run stopped by a
+            # signal) is replaced whole by a new staging folder at the end
+            self.staging = found if found.name.startswith(STAGING_PREFIX) else None
         else:
             self.check()
+        self.resumed = self.staging is not None
 
     def checkpoint(self) -> Path:
-        """The newest checkpoint in a staging folder of ``out`` (:class:`OutputError` when
-        there is none)."""
+        """The newest checkpoint in a staging folder of ``out`` or in ``out`` itself
+        (:class:`OutputError` when there is none)."""
         from .checkpoint import CHECKPOINT_FILE
 
         parent = self.out.resolve().parent
-        found = sorted(parent.glob(f"{STAGING_PREFIX}{self.out.name}-*/{CHECKPOINT_FILE}"),
+        found = sorted(list(parent.glob(f"{STAGING_PREFIX}{self.out.name}-*/{CHECKPOINT_FILE}"))
+                       + list(self.out.resolve().glob(CHECKPOINT_FILE)),
                        key=lambda p: p.stat().st_mtime)
         if not found:
             raise OutputError(f"--resume: no checkpoint of '{self.out}' in '{parent}' (a run "
@@ -80,11 +89,17 @@ class RunFolder:
             shutil.rmtree(self.staging, ignore_errors=True)
             self.staging = None
 
-    def commit(self) -> Path:
-        """Put the staged run in place of ``out`` (an earlier one removed); returns ``out``."""
+    def commit(self, keep_checkpoint: bool = False) -> Path:
+        """Put the staged run in place of ``out`` (an earlier one removed); returns ``out``.
+        Its checkpoint is removed unless ``keep_checkpoint`` (a run stopped by a signal:
+        where it wrote none since it was resumed from DIR's, that one is kept)."""
         from .checkpoint import CHECKPOINT_FILE
 
-        (self.stage() / CHECKPOINT_FILE).unlink(missing_ok=True)
+        staged = self.stage() / CHECKPOINT_FILE
+        if not keep_checkpoint:
+            staged.unlink(missing_ok=True)
+        elif not staged.is_file() and self.source is not None and self.source.is_file():
+            shutil.copy2(self.source, staged)
         old = None
         if self.out.exists():
             old = Path(tempfile.mkdtemp(prefix=".replaced-", dir=self.out.resolve().parent))

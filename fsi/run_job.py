@@ -106,6 +106,7 @@ def run(args) -> int:
     returns the exit status (module doc)."""
     from tqdm.contrib.logging import logging_redirect_tqdm
 
+    from .checkpoint import CHECKPOINT_FILE
     from .output import write_result
     from .plots import make_plots
     from .registry import StartFailure
@@ -128,9 +129,11 @@ def run(args) -> int:
     result.attrs["run_seconds"] = time.perf_counter() - t0
     write_result(folder.stage(), scene, setup.model, result)
     if "interrupted" in result.attrs:
-        out = folder.commit()
+        out = folder.commit(keep_checkpoint=True)
         name = signal.Signals(result.attrs["interrupted"]).name
-        print(f"fsi: interrupted by {name}: the work done is in '{out}' (no plots)",
+        again = ("; continue it from its last checkpoint with --resume"
+                 if (out / CHECKPOINT_FILE).is_file() else "")
+        print(f"fsi: interrupted by {name}: the work done is in '{out}' (no plots){again}",
               file=sys.stderr)
         return 128 + int(result.attrs["interrupted"])
     if "solver_failure" in result.attrs:

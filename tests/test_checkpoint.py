@@ -1,6 +1,6 @@
-"""Checkpoints and resume (fsi.checkpoint): a coupled fill killed with SIGKILL at a random
-moment after its first checkpoint, then resumed with --resume, ends with the arrays of an
-uninterrupted run, bit for bit (the wall-clock seconds excepted)."""
+"""Checkpoints and resume (fsi.checkpoint): a coupled fill killed with SIGKILL, or stopped
+with SIGTERM, at a random moment after its first checkpoint, then resumed with --resume, ends
+with the arrays of an uninterrupted run, bit for bit (the wall-clock seconds excepted)."""
 import random
 import signal
 import subprocess
@@ -25,9 +25,10 @@ TIMING = {"seconds_structure", "seconds_fluid", "wall_seconds", "run_seconds",
 FSI = [sys.executable, "-m", "fsi.cli"]
 
 
-def _reference_and_resumed(tmp_path, scene, max_delay: float):
-    """An uninterrupted run of ``scene`` and one killed with SIGKILL up to ``max_delay`` s
-    after its first checkpoint, then resumed: the two result folders."""
+def _reference_and_resumed(tmp_path, scene, max_delay: float, sig=signal.SIGKILL):
+    """An uninterrupted run of ``scene`` and one sent ``sig`` up to ``max_delay`` s after its
+    first checkpoint, then resumed: the two result folders. SIGKILL leaves no result folder;
+    SIGTERM one with the work done and the last checkpoint."""
     ref, out = tmp_path / "ref", tmp_path / "run"
     assert subprocess.run(FSI + ["run", str(scene), "--out", str(ref), "--no-plots"],
                           capture_output=True).returncode == 0
@@ -38,9 +39,14 @@ def _reference_and_resumed(tmp_path, scene, max_delay: float):
         assert proc.poll() is None and time.monotonic() < deadline
         time.sleep(0.05)
     time.sleep(random.uniform(0.0, max_delay))  # a random moment after the first checkpoint
-    proc.send_signal(signal.SIGKILL)
-    proc.wait()
-    assert not out.exists()
+    proc.send_signal(sig)
+    status = proc.wait()
+    if sig == signal.SIGKILL:
+        assert not out.exists()
+    else:
+        assert status == 128 + sig
+        assert (out / "result.h5").is_file() and (out / "checkpoint.pkl").is_file()
+        assert read_result(out)["attrs"]["interrupted"] == sig
     resumed = subprocess.run(FSI + ["run", str(scene), "--out", str(out), "--no-plots",
                                     "--resume"], capture_output=True, text=True)
     assert resumed.returncode == 0, resumed.stderr
@@ -143,14 +149,19 @@ cells = 10
 """}
 
 
-@pytest.mark.parametrize("surface", sorted(SLOSH))
-def test_slosh_runs_resume_bit_for_bit(tmp_path, surface):
-    """A slosh run (either surface model) killed after a checkpoint and resumed: its
-    windows, frames, fitted mode and every attribute equal an uninterrupted run's."""
+@pytest.mark.parametrize("surface, sig", [("limp", signal.SIGKILL),
+                                          ("diaphragm", signal.SIGTERM)])
+def test_slosh_runs_resume_bit_for_bit(tmp_path, surface, sig):
+    """A slosh run (either surface model) killed after a checkpoint (SIGKILL), or stopped
+    (SIGTERM: the work done written, the last checkpoint kept beside it), and resumed: its
+    windows, frames, fitted mode and every attribute equal an uninterrupted run's, and
+    nothing of the stopped run is left."""
     scene = tmp_path / "slosh.toml"
     scene.write_text(SLOSH[surface])
-    ref, out = _reference_and_resumed(tmp_path, scene, max_delay=0.5)
+    ref, out = _reference_and_resumed(tmp_path, scene, max_delay=0.5, sig=sig)
     _assert_equal_arrays(ref, out, ("frames", "windows", "surface"))
+    assert "interrupted" not in read_result(out)["attrs"]
+    assert not (out / "checkpoint.pkl").exists() and not list(tmp_path.glob(".partial-*"))
 
 
 def test_a_resumed_run_counts_the_wall_time_before_its_checkpoint():

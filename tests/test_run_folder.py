@@ -82,3 +82,30 @@ def test_a_run_that_dies_while_plotting_leaves_no_folder_but_a_marked_partial(tm
     assert not out.exists()
     (partial,) = tmp_path.glob(".partial-run-*")
     assert (partial / "result.h5").is_file()
+
+
+def test_a_stopped_run_s_checkpoint_in_dir_is_resumed_and_kept_if_stopped_again(tmp_path):
+    """--resume finds the checkpoint a run stopped by a signal kept in DIR, stages the
+    resumed run anew (DIR is replaced whole at its end), and where that run is stopped again
+    before it writes a checkpoint of its own, DIR's checkpoint is carried over, not lost;
+    a resumed run that finishes leaves none."""
+    from fsi.checkpoint import CHECKPOINT_FILE
+    from fsi.run_folder import RunFolder
+
+    out = tmp_path / "run"
+    out.mkdir()
+    (out / "result.h5").write_bytes(b"stopped")
+    (out / CHECKPOINT_FILE).write_bytes(b"state at window 40")
+    folder = RunFolder(out, resume=True)
+    assert folder.source == (out / CHECKPOINT_FILE).resolve() and not folder.resumed
+    staged = folder.stage()
+    assert staged != out.resolve() and staged.name.startswith(".partial-run-")
+    (staged / "result.h5").write_bytes(b"stopped again")
+    assert folder.commit(keep_checkpoint=True) == out
+    assert (out / CHECKPOINT_FILE).read_bytes() == b"state at window 40"
+    assert (out / "result.h5").read_bytes() == b"stopped again"
+    again = RunFolder(out, resume=True)
+    (again.stage() / "result.h5").write_bytes(b"finished")
+    again.commit()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
+    assert [p.name for p in out.iterdir()] == ["result.h5"]
