@@ -198,3 +198,19 @@ def test_the_compiled_jacobi_bicgstab_takes_scipys_iterations():
         assert ours.residual <= TOLERANCE
     x, _ = JacobiBiCGSTAB(TOLERANCE, 2000).solve(a, np.zeros(n**3), np.ones(n**3))
     assert not x.any()
+
+
+def test_the_inverse_diagonal_sums_duplicate_entries_as_scipy_does():
+    # a CSR matrix not in canonical form: row 0 stores its diagonal twice, row 1 has a zero
+    # diagonal (its inverse is taken as 1), row 2 stores an explicit zero off the diagonal
+    from fluid.linear import _inverse_diagonal, decoupled_rows
+
+    indptr = np.array([0, 3, 4, 6])
+    indices = np.array([0, 0, 2, 1, 2, 0])
+    data = np.array([2.0, 0.5, -1.0, 0.0, 4.0, 0.0])
+    m = sp.csr_matrix((data, indices, indptr), shape=(3, 3))
+    assert not m.has_canonical_format
+    diagonal = m.diagonal()
+    np.testing.assert_array_equal(diagonal, [2.5, 0.0, 4.0])
+    np.testing.assert_array_equal(_inverse_diagonal(m), [1 / 2.5, 1.0, 0.25])
+    np.testing.assert_array_equal(decoupled_rows(m), [False, False, True])
