@@ -62,8 +62,8 @@ def test_axes_expand_lists_ranges_and_zipped_keys(tmp_path):
 
 
 @pytest.mark.parametrize("name, cases", [("slosh-by-fill", 18), ("static-by-model", 12),
-                                         ("valve-fill-samples", 3),
-                                         ("valve-drain-samples", 3)])
+                                         ("valve-fill-samples", 5),
+                                         ("valve-drain-samples", 5)])
 def test_bundled_sweeps_build_every_case(name, cases, capsys):
     from fsi.sweep_file import load_sweep
 
