@@ -329,7 +329,7 @@ def _band_triangles(origin, spacing, shape, band, p, vel_pts, tri, face_n, vert_
                     r1 = q1 - (u * ay + v * by + w * cy)
                     r2 = q2 - (u * az + v * bz + w * cz)
                     d = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
-                    if d >= abs(dist[i, j, k]):
+                    if not d < abs(dist[i, j, k]):
                         continue
                     if not signed:
                         dist[i, j, k] = d
