@@ -27,7 +27,11 @@ vector (the accelerated fields concatenated, each scaled by the scheme).
   change from the previous window's J_prev that meets them,
   J = J_prev + (W - J_prev V)(V^T V)^-1 V^T, and x+ = x_tilde - J r; J is kept for the next
   window instead of its columns. Dense n x n: for interfaces of moderate size. With
-  J_prev = 0 it is IQN-ILS without reuse.
+  J_prev = 0 it is IQN-ILS without reuse. ``mixing`` beta < 1 starts from
+  J_prev = (1 - beta) I (the inverse Jacobian -beta I of the residual), so that its first
+  window is IQN-ILS with mixing beta and no reuse, and a later window's directions that no
+  secant has reached keep beta's relaxation; what the secants taught replaces it where they
+  reached.
 """
 from __future__ import annotations
 
@@ -54,9 +58,9 @@ class AccelerationSettings:
 
     relaxation : constant omega (``constant``); initial_relaxation : first omega of a window
     (``aitken``) or of the first iteration (``iqn-ils``); reuse : past windows kept
-    (``iqn-ils``); filter_limit : QR2 filter threshold (``iqn-ils``); max_columns : cap on
-    secant columns (``iqn-ils``); mixing : relaxation of the residual outside the secants'
-    span (``iqn-ils``, 1 as published).
+    (``iqn-ils``); filter_limit : QR2 filter threshold (``iqn-ils``, ``iqn-imvj``);
+    max_columns : cap on secant columns (``iqn-ils``, ``iqn-imvj``); mixing : relaxation of
+    the residual outside the secants' span (``iqn-ils``, ``iqn-imvj``; 1 as published).
     """
 
     relaxation: float = 0.5
@@ -233,12 +237,17 @@ class IQNIMVJ(IQNILS):
         if self.window_v:
             self.jacobian = self._current_jacobian(self.window_v, self.window_w)
 
+    def _first_jacobian(self, n: int) -> np.ndarray:
+        """J before any secant: 0 as published, (1 - mixing) I with mixing (-mixing I for the
+        residual)."""
+        return (1.0 - self.s.mixing) * np.eye(n)
+
     def _current_jacobian(self, v_cols, w_cols):
         V = np.stack(v_cols, axis=1)
         W = np.stack(w_cols, axis=1)
         keep = _qr2_filter(V, self.s.filter_limit)
         V, W = V[:, keep], W[:, keep]
-        base = self.jacobian if self.jacobian is not None else np.zeros((V.shape[0],) * 2)
+        base = self.jacobian if self.jacobian is not None else self._first_jacobian(V.shape[0])
         if V.shape[1] == 0:
             return base
         q, rr = np.linalg.qr(V)

@@ -138,6 +138,43 @@ def test_iqn_ils_mixing_relaxes_only_the_residual_outside_the_secants(beta):
         assert np.allclose(out, xt1 + w * a)
 
 
+@pytest.mark.parametrize("beta", [1.0, 0.1])
+def test_iqn_imvj_with_mixing_takes_iqn_ils_steps_in_its_first_window(beta):
+    # J_prev = (1 - beta) I before any window: x~ - J r with J = J_prev + (W - J_prev V)
+    # (V^T V)^-1 V^T is x + (W - V) a + beta (r + V a), IQN-ILS's mixed update without reuse
+    # (Lindner et al. 2015 for beta = 1)
+    rng = np.random.default_rng(2)
+    xs, xts = rng.normal(size=(2, 5, 7))
+    ils = ACCELERATIONS["iqn-ils"](AccelerationSettings(mixing=beta))
+    imvj = ACCELERATIONS["iqn-imvj"](AccelerationSettings(mixing=beta))
+    for acc in (ils, imvj):
+        acc.start_window()
+    for x, xt in zip(xs, xts):
+        assert np.allclose(ils.update(x, xt), imvj.update(x, xt), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("mixing", [1.0, 0.1])
+def test_iqn_imvj_carries_its_jacobian_so_a_second_window_of_the_same_map_is_short(mixing):
+    # the same linear part in every window, the offset moved after the first: the first
+    # window's n secants give the whole inverse Jacobian, so the next window's first
+    # quasi-Newton step is exact, where IQN-ILS without reuse learns it anew (n + 2
+    # evaluations, test above)
+    n = 6
+    iterations = {}
+    for name in ("iqn-ils", "iqn-imvj"):
+        s, f = _pair(n=n, gain=1.5, seed=3)
+        settings = _settings("implicit-serial", name, tol=1e-9, mixing=mixing)
+        settings.measures = [ConvergenceMeasure("p", "absolute", 1e-9)]
+        shift = np.random.default_rng(4).normal(size=n)
+        log = run(s, f, settings, dt=0.1, n_windows=2,
+                  on_window=lambda w, data, s=s: setattr(s, "b", s.b + shift))
+        assert all(w.converged for w in log.windows)
+        iterations[name] = [w.iterations for w in log.windows]
+    assert iterations["iqn-imvj"][0] == iterations["iqn-ils"][0]
+    assert iterations["iqn-ils"][1] >= n + 1
+    assert iterations["iqn-imvj"][1] <= 3
+
+
 def test_mixing_outside_zero_one_raises():
     for bad in (0.0, 1.5):
         with pytest.raises(ValueError, match="mixing"):
