@@ -31,7 +31,9 @@ vector (the accelerated fields concatenated, each scaled by the scheme).
   J_prev = (1 - beta) I (the inverse Jacobian -beta I of the residual), so that its first
   window is IQN-ILS with mixing beta and no reuse, and a later window's directions that no
   secant has reached keep beta's relaxation; what the secants taught replaces it where they
-  reached.
+  reached. ``jacobian_windows`` K > 0 rebuilds J at each window's end from (1 - beta) I and
+  the last K windows' secants, so what a window taught is forgotten K windows later (preCICE's
+  IMVJ restarts bound the same memory). A window accepted unconverged restarts J.
 """
 from __future__ import annotations
 
@@ -60,7 +62,10 @@ class AccelerationSettings:
     (``aitken``) or of the first iteration (``iqn-ils``); reuse : past windows kept
     (``iqn-ils``); filter_limit : QR2 filter threshold (``iqn-ils``, ``iqn-imvj``);
     max_columns : cap on secant columns (``iqn-ils``, ``iqn-imvj``); mixing : relaxation of
-    the residual outside the secants' span (``iqn-ils``, ``iqn-imvj``; 1 as published).
+    the residual outside the secants' span (``iqn-ils``, ``iqn-imvj``; 1 as published);
+    jacobian_windows : ``iqn-imvj`` rebuilds its inverse Jacobian at each window's end from
+    the secants of this many past windows, oldest first (0: every window since the start or
+    the last restart, as published).
     """
 
     relaxation: float = 0.5
@@ -69,10 +74,13 @@ class AccelerationSettings:
     filter_limit: float = 1e-8
     max_columns: int = 100
     mixing: float = 1.0
+    jacobian_windows: int = 0
 
     def __post_init__(self):
         if not 0.0 < self.mixing <= 1.0:
             raise ValueError(f"mixing must be in (0, 1], got {self.mixing!r}")
+        if self.jacobian_windows < 0:
+            raise ValueError(f"jacobian_windows must be >= 0, got {self.jacobian_windows!r}")
 
 
 class Acceleration:
@@ -98,6 +106,10 @@ class Acceleration:
 
     def end_window(self) -> None:
         """Called when a window has converged (or been accepted)."""
+
+    def stalled(self) -> None:
+        """Called, before :meth:`end_window`, when a window that did not converge is
+        accepted (``on_max_iterations`` accept or accept-best); keeps everything by default."""
 
     def update(self, x: np.ndarray, x_tilde: np.ndarray) -> np.ndarray:
         raise NotImplementedError
@@ -228,14 +240,30 @@ class IQNIMVJ(IQNILS):
     def __init__(self, settings):
         super().__init__(settings)
         self.jacobian = None  # (n, n) inverse Jacobian of the previous window
+        self.windows: list[tuple[list, list]] = []  # (V, W) of past windows, oldest first
 
     def forget(self):
         super().forget()
         self.jacobian = None
+        self.windows = []
+
+    def stalled(self):
+        """A window accepted unconverged: its secants come from an iteration that did not
+        settle, and the operator it met need not be the next window's, so J restarts."""
+        self.forget()
+        self.window_v, self.window_w = [], []
 
     def end_window(self):
-        if self.window_v:
+        if not self.window_v:
+            return
+        if self.s.jacobian_windows == 0:
             self.jacobian = self._current_jacobian(self.window_v, self.window_w)
+            return
+        self.windows.append((self.window_v, self.window_w))
+        del self.windows[:-self.s.jacobian_windows]
+        self.jacobian = None
+        for v_cols, w_cols in self.windows:
+            self.jacobian = self._current_jacobian(v_cols, w_cols)
 
     def _first_jacobian(self, n: int) -> np.ndarray:
         """J before any secant: 0 as published, (1 - mixing) I with mixing (-mixing I for the

@@ -426,6 +426,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
             acceleration.forget()
             return _redo_explicit(first, second, data, t, dt, window)
         log.warning("%s; accepted", msg)
+        acceleration.stalled()
     acceleration.end_window()
     return x_tilde
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import logging
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -75,6 +75,27 @@ class Geometry:
     def fluid_centre(self) -> np.ndarray:
         """(n_cells,) bool: the cell centre lies in the liquid (velocity unknowns live here)."""
         return self.centre_level < 0.0
+
+
+HELD_LEVEL_CELLS = 1e-6
+"""A held cell whose centre has crossed the interface keeps this distance (in cells) on its
+held side (:func:`hold_liquid_centres`)."""
+
+
+def hold_liquid_centres(geometry: Geometry, liquid_centre: np.ndarray, spacing: float) \
+        -> Geometry:
+    """``geometry`` with the cells of ``liquid_centre`` (n_cells,) bool as its liquid-centre
+    cells and no others: a cell whose centre has crossed the interface keeps its side, its
+    ``centre_level`` set HELD_LEVEL_CELLS h on that side (m). Which cells carry the liquid's
+    velocity (and which hold the wall's) is then fixed, so the step is continuous in the
+    interface's position; the fractions stay the interface's own. The cut-cell method's
+    cell classes change discontinuously where a centre crosses the interface (a "fresh"
+    cell), and a coupling iteration whose fixed point sits at such a crossing cannot
+    converge past the jump."""
+    held = HELD_LEVEL_CELLS * spacing
+    level = np.where(liquid_centre, np.minimum(geometry.centre_level, -held),
+                     np.maximum(geometry.centre_level, held))
+    return replace(geometry, centre_level=level)
 
 
 def _lattice_coords(axes):

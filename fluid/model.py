@@ -21,6 +21,7 @@ import numpy as np
 
 from .geometry import Geometry
 from .grid import TankGrid
+from .sampling import FIT_KERNELS
 
 PORT_KINDS = ("flow", "pressure")
 
@@ -86,7 +87,11 @@ class FluidModel:
     between two wall-centred cells only; every other face re-interpolated from the cells each
     step, Rhie-Chow) or 'every-face' (every inner face wetted before and after the step; see
     :mod:`fluid.projection`). The free surface's step keeps every face's history whatever
-    this says.
+    this says;
+    pressure_fit: the weights of the pressure's fit at points (:meth:`FluidSolver.pressure_at
+    <fluid.solver.FluidSolver.pressure_at>`), a name in :data:`fluid.sampling.FIT_KERNELS`:
+    'block' (alpha / (d^2 + h^2) over the block of cells around the point) or 'tapered' (the
+    same times a factor that vanishes at the block's edge: continuous in the point's position).
     """
 
     grid: TankGrid
@@ -103,8 +108,12 @@ class FluidModel:
     interface_condition: str = "wall"
     time_scheme: str = "euler"
     face_memory: str = "ring"
+    pressure_fit: str = "block"
 
     def __post_init__(self):
+        if self.pressure_fit not in FIT_KERNELS:
+            raise ValueError(f"pressure_fit must be one of {sorted(FIT_KERNELS)}, got "
+                             f"{self.pressure_fit!r}")
         if self.face_memory not in FACE_MEMORIES:
             raise ValueError(f"face_memory must be one of {FACE_MEMORIES}, got "
                              f"{self.face_memory!r}")

@@ -6,6 +6,15 @@ alpha / (d^2 + h^2). The fit is exact for a linear pressure (hydrostatic or unif
 accelerated liquid) wherever the block has dim + 1 independent liquid cells; otherwise the
 weighted mean is used.
 
+The block is the 2 reach cells per axis whose centres bracket the point, so it moves by a cell
+when the point crosses a plane of cell centres, and a cell at the block's edge enters or
+leaves the fit with its full weight: the fitted value jumps (by about h^2 times the
+pressure's curvature). Under the ``tapered`` kernel (:data:`FIT_KERNELS`, the scene key
+``fluid.pressure_fit``) each weight is multiplied by prod_a (1 - (d_a / (reach h))^2)^2, which
+is zero for every cell a block could gain or lose, so the fitted value is continuous in the
+point's position (moving least squares with a compactly supported weight, Lancaster &
+Salkauskas 1981); ``block`` keeps the plain weights.
+
 Which cells a coupled interface's pressure is fitted from (:data:`CELL_WEIGHTS`, the scene
 key ``fluid.pressure_cells``): a cell weight w (n_cells,) from the liquid fraction now and at
 the coupling window's start,
@@ -35,10 +44,12 @@ SAMPLE_REACH_CELLS = 2
 MIN_FRACTION = 0.25
 #: a point with no such cell within the block is sampled from a block twice as wide, up to this
 MAX_REACH_CELLS = 8
+#: ``fluid.pressure_fit`` name -> whether the fit's weights taper to zero at the block's edge
+FIT_KERNELS = {"block": False, "tapered": True}
 
 
 @njit(**JIT)
-def _fit(points, lower, h, values, weights, reach):
+def _fit(points, lower, h, values, weights, reach, taper):
     n, dim = points.shape
     shape = values.shape
     out = np.empty(n)
@@ -78,11 +89,17 @@ def _fit(points, lower, h, values, weights, reach):
                         continue
                     d2 = 0.0
                     row[0] = 1.0
+                    fade = 1.0
                     for a in range(dim):
                         dx = lower[a] + (idx[a] + 0.5) * h - points[p, a]
                         row[a + 1] = dx / h
                         d2 += dx * dx
-                    w = w0 / (d2 / (h * h) + 1.0)
+                        if taper:
+                            q = dx / (reach * h)
+                            fade *= max(0.0, 1.0 - q * q) ** 2
+                    if fade <= 0.0:
+                        continue
+                    w = w0 * fade / (d2 / (h * h) + 1.0)
                     for r in range(dim + 1):
                         atb[r] += w * row[r] * v
                         for c in range(dim + 1):
@@ -139,14 +156,19 @@ def window_weight(cell_fraction: np.ndarray, start_fraction: np.ndarray | None) 
 
 def sample_cells(grid: TankGrid, cell_values: np.ndarray, cell_fraction: np.ndarray,
                  points: np.ndarray, min_fraction: float = MIN_FRACTION,
-                 cell_weight: np.ndarray | None = None) -> np.ndarray:
+                 cell_weight: np.ndarray | None = None, kernel: str = "block") -> np.ndarray:
     """Values (n,) at ``points`` (n, 3) m of a cell field (n_cells,), from liquid cells only.
 
     On an axisymmetric grid a point (x, y, z) is sampled at (hypot(x, y), z). A point with no
     liquid cell within ``SAMPLE_REACH_CELLS`` is sampled from a block twice as wide, then
     again, up to ``MAX_REACH_CELLS``; NaN where none lies within that. ``cell_weight``
     (n_cells,) -, where given, is each cell's weight in place of
-    ``threshold_weight(cell_fraction, min_fraction=min_fraction)`` (0: not used)."""
+    ``threshold_weight(cell_fraction, min_fraction=min_fraction)`` (0: not used); ``kernel``:
+    a name in :data:`FIT_KERNELS`."""
+    if kernel not in FIT_KERNELS:
+        raise ValueError(f"pressure fit kernel must be one of {sorted(FIT_KERNELS)}, got "
+                         f"{kernel!r}")
+    taper = FIT_KERNELS[kernel]
     points = np.asarray(points, dtype=float)
     if grid.axisymmetric:
         coords = np.stack([np.hypot(points[:, 0], points[:, 1]), points[:, 2]], axis=1)
@@ -162,13 +184,13 @@ def sample_cells(grid: TankGrid, cell_values: np.ndarray, cell_fraction: np.ndar
     coords = np.ascontiguousarray(coords)
     lower = np.asarray(grid.lower, dtype=float)
     values, weights = lattice_values.reshape(shape), lattice_weights.reshape(shape)
-    out = _fit(coords, lower, grid.spacing, values, weights, SAMPLE_REACH_CELLS)
+    out = _fit(coords, lower, grid.spacing, values, weights, SAMPLE_REACH_CELLS, taper)
     reach = SAMPLE_REACH_CELLS
     missing = np.isnan(out)
     while missing.any() and reach < MAX_REACH_CELLS:
         # a point in a thin liquid gap (under a fold, against the wall) on a fine grid
         reach *= 2
         out[missing] = _fit(np.ascontiguousarray(coords[missing]), lower, grid.spacing, values,
-                            weights, reach)
+                            weights, reach, taper)
         missing = np.isnan(out)
     return out

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .geometry import Geometry, compute_geometry
+from .geometry import Geometry, compute_geometry, hold_liquid_centres
 from .interface import Interface
 from .model import FluidModel, FluidState
 from .projection import ProjectionOperators, StepReport, initial_state, step
@@ -68,14 +68,20 @@ class FluidSolver:
         """Liquid volume (m^3) on the grid now."""
         return self.state.geometry.liquid_volume
 
-    def advance(self, dt: float, interface: Interface | None = None) -> StepReport:
+    def advance(self, dt: float, interface: Interface | None = None,
+                liquid_centre: np.ndarray | None = None) -> StepReport:
         """Advance by ``dt`` (s) with the interface at the end of the step (None, or the
-        interface already there: the same geometry, not computed again)."""
+        interface already there: the same geometry, not computed again); ``liquid_centre``
+        (n_cells,) bool, where given: the cells that carry the liquid's velocity whatever
+        side of the interface their centre lies on (:func:`fluid.geometry.hold_liquid_centres`).
+        """
         tic = _time.perf_counter()
         if interface is None or interface is self.interface:
             geometry = self.state.geometry
         else:
             geometry = self.geometry_for(interface)
+        if liquid_centre is not None:
+            geometry = hold_liquid_centres(geometry, liquid_centre, self.model.grid.spacing)
         toc = _time.perf_counter() - tic
         self.state, report = step(self.model, self._ops, self.state, geometry, dt)
         if interface is not None:
@@ -93,11 +99,12 @@ class FluidSolver:
         """Total gauge pressure (n,) Pa at ``points`` (n, 3) m, from the liquid cells next to
         them: reduced pressure + rho b . x + ``level``; ``cell_weight`` (n_cells,): the cells
         fitted and their weights (:data:`fluid.sampling.CELL_WEIGHTS`; default: the liquid
-        fraction where it is at least :data:`fluid.sampling.MIN_FRACTION`)."""
+        fraction where it is at least :data:`fluid.sampling.MIN_FRACTION`); the fit's kernel
+        is the model's ``pressure_fit``."""
         points = np.asarray(points, dtype=float)
         reduced = sample_cells(self.model.grid, self.state.pressure,
                                self.state.geometry.cell_fraction, points,
-                               cell_weight=cell_weight)
+                               cell_weight=cell_weight, kernel=self.model.pressure_fit)
         return reduced + self.model.body_potential(points, self.state.time) + level
 
     def velocity_at(self, points: np.ndarray) -> np.ndarray:

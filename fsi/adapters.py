@@ -26,6 +26,10 @@ from structure.xpbd import WINDOW_SCHEMES, XpbdDivergence, XpbdModel, XpbdSettin
 
 from .pressure_maps import node_fit
 
+CENTRE_CELLS = ("iteration", "window")
+"""``fluid.centre_cells``: which cells carry the liquid's velocity in a coupling window's
+iterations: those whose centre is in the liquid at each iteration, or those of the window's
+start, held (:func:`fluid.geometry.hold_liquid_centres`)."""
 POINTS = "interface_points"
 VELOCITIES = "interface_velocities"
 PRESSURE = "interface_pressure"
@@ -60,19 +64,26 @@ class FluidParticipant:
     :data:`fsi.pressure_maps.PRESSURE_MAPS`; default: the fit at each node), from the cells
     that ``pressure_cells`` picks (a name in :data:`fluid.sampling.CELL_WEIGHTS`: chosen at
     every iteration, or at the window's start, when :meth:`store_checkpoint` records the
-    liquid fraction)."""
+    liquid fraction); ``centre_cells`` (:data:`CENTRE_CELLS`): which cells carry the liquid's
+    velocity in the window's iterations."""
 
     name = "fluid"
     write_fields = (PRESSURE,)
 
     def __init__(self, solver: FluidSolver, level: float | Callable[[float], float] = 0.0,
                  surface: "MembraneSurface | None" = None,
-                 pressure_map: Callable | None = None, pressure_cells: str = "iteration"):
+                 pressure_map: Callable | None = None, pressure_cells: str = "iteration",
+                 centre_cells: str = "iteration"):
         if solver.interface is None:
             raise ValueError("a coupled fluid needs an interface")
         if pressure_cells not in CELL_WEIGHTS:
             raise ValueError(f"unknown pressure cells {pressure_cells!r}; allowed: "
                              f"{sorted(CELL_WEIGHTS)}")
+        if centre_cells not in CENTRE_CELLS:
+            raise ValueError(f"unknown centre cells {centre_cells!r}; allowed: "
+                             f"{list(CENTRE_CELLS)}")
+        self.centre_cells = centre_cells
+        self.start_centre = None  # (n_cells,) liquid-centre cells at the window's start
         self.solver = solver
         self.level = level
         self.surface = surface
@@ -100,11 +111,13 @@ class FluidParticipant:
             interface = self.surface(points, velocities)
         else:
             interface = self.solver.interface.with_state(points, velocities)
-        self.solver.advance(dt, interface)
+        self.solver.advance(dt, interface, getattr(self, "start_centre", None))
         return {PRESSURE: self._pressure(time + dt)}
 
     def store_checkpoint(self):
         self.start_fraction = self.solver.state.geometry.cell_fraction
+        if self.centre_cells == "window":
+            self.start_centre = self.solver.state.geometry.fluid_centre
         return self.solver.store_checkpoint()
 
     def restore_checkpoint(self, checkpoint) -> None:

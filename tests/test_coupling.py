@@ -175,6 +175,57 @@ def test_iqn_imvj_carries_its_jacobian_so_a_second_window_of_the_same_map_is_sho
     assert iterations["iqn-imvj"][1] <= 3
 
 
+def _imvj_windows(acc, windows):
+    """Feed ``acc`` the windows' (x, x_tilde) iterates, each window closed by end_window."""
+    for xs, xts in windows:
+        acc.start_window()
+        for x, xt in zip(xs, xts):
+            acc.update(x, xt)
+        acc.end_window()
+
+
+def test_iqn_imvj_jacobian_windows_forgets_what_older_windows_taught():
+    # K = 1: the Jacobian carried out of two windows is the one the last window alone builds
+    # from (1 - beta) I; K = 0 (as published) keeps the first window's too
+    rng = np.random.default_rng(5)
+    windows = [tuple(rng.normal(size=(2, 3, 8))) for _ in range(2)]
+    last = ACCELERATIONS["iqn-imvj"](AccelerationSettings(mixing=0.2))
+    _imvj_windows(last, windows[1:])
+    one = ACCELERATIONS["iqn-imvj"](AccelerationSettings(mixing=0.2, jacobian_windows=1))
+    _imvj_windows(one, windows)
+    every = ACCELERATIONS["iqn-imvj"](AccelerationSettings(mixing=0.2))
+    _imvj_windows(every, windows)
+    assert np.allclose(one.jacobian, last.jacobian, rtol=0, atol=1e-12)
+    assert not np.allclose(every.jacobian, last.jacobian, rtol=0, atol=1e-6)
+
+
+def test_iqn_imvj_restarts_its_jacobian_after_a_window_accepted_unconverged(monkeypatch):
+    # a stalled window's secants come from an iteration that did not settle: the next window
+    # starts from (1 - beta) I, its first step beta r (the first window's after one secant)
+    rng = np.random.default_rng(6)
+    acc = ACCELERATIONS["iqn-imvj"](AccelerationSettings(mixing=0.3))
+    _imvj_windows(acc, [tuple(rng.normal(size=(2, 3, 5)))])
+    assert acc.jacobian is not None
+    acc.start_window()
+    for x, xt in zip(*rng.normal(size=(2, 3, 5))):
+        acc.update(x, xt)
+    acc.stalled()
+    acc.end_window()
+    assert acc.jacobian is None
+    # the scheme tells it: every accepted unconverged window, and no converged one
+    calls = []
+    cls = ACCELERATIONS["iqn-imvj"]
+    monkeypatch.setattr(cls, "stalled", lambda self: calls.append(1) or cls.forget(self))
+    for iterations, stalls in ((3, 2), (200, 0)):
+        calls.clear()
+        s, f = _pair(n=4, gain=1.5, seed=3)
+        settings = _settings("implicit-serial", "iqn-imvj", tol=1e-9, mixing=0.3)
+        settings.max_iterations = iterations
+        settings.on_max_iterations = "accept"
+        log = run(s, f, settings, dt=0.1, n_windows=2)
+        assert sum(not w.converged for w in log.windows) == stalls == len(calls)
+
+
 def test_mixing_outside_zero_one_raises():
     for bad in (0.0, 1.5):
         with pytest.raises(ValueError, match="mixing"):

@@ -11,7 +11,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from fluid.sampling import CELL_WEIGHTS, MIN_FRACTION, sample_cells, threshold_weight
+from fluid.geometry import HELD_LEVEL_CELLS, hold_liquid_centres
+from fluid.sampling import CELL_WEIGHTS, FIT_KERNELS, MIN_FRACTION, sample_cells, threshold_weight
 from fluid.solver import FluidSolver
 from fluid.tank import sphere_model, tank_grid
 from fsi.adapters import FluidParticipant, MembraneSurface
@@ -213,6 +214,80 @@ def test_the_fluid_participant_fits_from_its_windows_start_cells(linear_field):
         solver.state = start_state
     with pytest.raises(ValueError, match="pressure cells"):
         FluidParticipant(solver, surface=surface, pressure_cells="every")
+
+
+def test_the_tapered_fit_is_continuous_where_a_point_crosses_a_plane_of_cell_centres(
+        linear_field):
+    """A node moved across a plane of cell centres by 2e-9 h, the cells' pressure a plane plus
+    a curvature of 1 kPa/m^2: the plain block gains and drops a layer of cells there and the
+    fitted value jumps; the tapered weights (zero at the block's edge) move it by what the
+    plane's slope moves it. Both fit a plane exactly (moving least squares)."""
+    solver, surface, _, inner = linear_field
+    grid = solver.model.grid
+    x = solver.interface.points[:surface.n_points][inner][0]
+    h = grid.spacing
+    plane = np.floor((x[0] - grid.lower[0]) / h - 0.5) + 1.5  # the next plane of centres, in h
+    fraction = solver.state.geometry.cell_fraction
+    c = grid.cell_centre
+    curved = solver.state.pressure + 1e5 * np.sum((c - x) ** 2, axis=1)
+    values = {}
+    for kernel in FIT_KERNELS:
+        for side in (-1e-9, 1e-9):
+            point = x.copy()
+            point[0] = grid.lower[0] + (plane + side) * h
+            values[kernel, side] = sample_cells(grid, curved, fraction, point[None],
+                                                kernel=kernel)[0]
+        # a plane is fitted exactly by either kernel
+        assert np.isclose(sample_cells(grid, solver.state.pressure, fraction, x[None],
+                                       kernel=kernel)[0],
+                          OFFSET + x @ GRADIENT, rtol=0, atol=1e-6)
+    assert abs(values["block", 1e-9] - values["block", -1e-9]) > 1.0  # Pa
+    assert abs(values["tapered", 1e-9] - values["tapered", -1e-9]) < 1e-5  # Pa
+    with pytest.raises(ValueError, match="pressure fit"):
+        sample_cells(grid, curved, fraction, x[None], kernel="smooth")
+
+
+def test_held_centre_cells_keep_their_side_where_the_interface_crosses_them(linear_field):
+    solver, _, _, _ = linear_field
+    g = solver.state.geometry
+    h = solver.model.grid.spacing
+    held = g.fluid_centre.copy()
+    flip = np.flatnonzero(held)[:3]
+    held[flip] = False  # three liquid-centre cells held as wall cells
+    wet = np.flatnonzero(~g.fluid_centre & (g.cell_fraction > 0))[:3]
+    held[wet] = True  # and three wall-centre cells (cut, in the tank) held as liquid
+    out = hold_liquid_centres(g, held, h)
+    assert np.array_equal(out.fluid_centre, held)
+    assert np.allclose(out.centre_level[flip], HELD_LEVEL_CELLS * h)
+    assert np.allclose(out.centre_level[wet], -HELD_LEVEL_CELLS * h)
+    same = np.ones(len(held), bool)
+    same[np.r_[flip, wet]] = False
+    assert np.array_equal(out.centre_level[same], g.centre_level[same])
+    assert np.array_equal(out.cell_fraction, g.cell_fraction)
+    # held at their own side: only a centre closer to the interface than the held distance
+    # moves, to it
+    own = hold_liquid_centres(g, g.fluid_centre, h)
+    far = np.abs(g.centre_level) >= HELD_LEVEL_CELLS * h
+    assert np.array_equal(own.fluid_centre, g.fluid_centre)
+    assert np.array_equal(own.centre_level[far], g.centre_level[far])
+
+
+def test_the_fluid_participant_holds_its_windows_start_centres(linear_field, monkeypatch):
+    solver, surface, _, _ = linear_field
+    start_state = solver.state
+    seen = []
+    monkeypatch.setattr(solver, "advance",
+                        lambda dt, interface=None, liquid_centre=None: seen.append(liquid_centre))
+    points = solver.interface.points[:surface.n_points]
+    data = {"interface_points": points, "interface_velocities": np.zeros_like(points)}
+    for name in ("iteration", "window"):
+        side = FluidParticipant(solver, level=LEVEL, surface=surface, centre_cells=name)
+        side.store_checkpoint()
+        side.solve_window(0.0, 1e-3, data)
+    assert seen[0] is None
+    assert np.array_equal(seen[1], start_state.geometry.fluid_centre)
+    with pytest.raises(ValueError, match="centre cells"):
+        FluidParticipant(solver, surface=surface, centre_cells="every")
 
 
 def test_cell_of_finds_points_and_refuses_the_outside():

@@ -8,12 +8,13 @@ import numpy as np
 from coupling import (ACCELERATIONS, EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES,
                       AccelerationSettings, ConvergenceMeasure, CouplingSettings)
 from fluid.model import FACE_MEMORIES
-from fluid.sampling import CELL_WEIGHTS
+from fluid.sampling import CELL_WEIGHTS, FIT_KERNELS
 from fluid.solver import FluidSolver
 from fluid.tank import port_stub_volume, tank_spacing
 from structure.volume import liquid_volume
 
-from ..adapters import INTERFACE_VELOCITIES, POINTS, PRESSURE, FluidParticipant, MembraneSurface
+from ..adapters import (CENTRE_CELLS, INTERFACE_VELOCITIES, POINTS, PRESSURE, FluidParticipant,
+                        MembraneSurface)
 from ..limits import courant_time_step_limit
 from ..models import XPBD_COURANT_FRACTION
 from ..pressure_maps import PRESSURE_MAPS
@@ -160,6 +161,19 @@ FLUID = Table({
                           "start, faded out below an eighth: the map is then continuous over "
                           "the window's iterations; README, 'The pressure cells of a "
                           "window')"),
+    "pressure_fit": Key(str, "block", *one_of(sorted(FIT_KERNELS)),
+                        "the weights of the pressure's least-squares plane around a point: "
+                        "block (liquid fraction / (1 + d^2 / h^2) over the 4 x 4 x 4 cells "
+                        "around it: the value jumps when the point crosses a plane of cell "
+                        "centres) or tapered (the same times a factor that falls to zero at "
+                        "the block's edge: continuous in the point's position; README, 'Where "
+                        "a window stalls short of its tolerance')"),
+    "centre_cells": Key(str, "iteration", *one_of(list(CENTRE_CELLS)),
+                        "which cells carry the liquid's velocity in a window's coupling "
+                        "iterations: iteration (those whose centre is in the liquid, anew at "
+                        "each iteration: a centre the membrane crosses makes the pressure jump) "
+                        "or window (those of the window's start, held over its iterations; "
+                        "README, 'Where a window stalls short of its tolerance')"),
 })
 """[fluid]: the immersed-boundary liquid (:mod:`fluid`)."""
 
@@ -178,7 +192,8 @@ def fluid_participant(setup, fluid: FluidSolver, surface: MembraneSurface) -> Fl
     """The liquid as a coupling participant: its pressure at the membrane's nodes by
     ``fluid.pressure_map`` from the cells of ``fluid.pressure_cells``."""
     return FluidParticipant(fluid, surface=surface, pressure_map=fluid_pressure_map(setup),
-                            pressure_cells=setup.scene["fluid"]["pressure_cells"])
+                            pressure_cells=setup.scene["fluid"]["pressure_cells"],
+                            centre_cells=setup.scene["fluid"]["centre_cells"])
 
 
 def membrane_surface(setup, model, fluid_model) -> MembraneSurface:
@@ -219,8 +234,12 @@ COUPLING = Table({
     "filter_limit": Key(float, 1e-2, lambda v: 0 < v < 1, "0 < value < 1", "IQN QR2 filter"),
     "max_columns": Key(int, 100, lambda v: v >= 1, ">= 1", "IQN secant columns at most"),
     "mixing": Key(float, 1.0, lambda v: 0 < v <= 1, "0 < value <= 1",
-                  "IQN-ILS: relaxation of the residual outside the secants' span (Anderson's "
+                  "IQN-ILS and IQN-IMVJ: relaxation of the residual outside the secants' span (Anderson's "
                   "beta; 1: IQN-ILS as published; README, 'Mixing')"),
+    "jacobian_windows": Key(int, 0, lambda v: 0 <= v <= 1000, "0..1000",
+                            "iqn-imvj: past windows whose secants make the carried inverse "
+                            "Jacobian (0: every window since the last restart; a window "
+                            "accepted unconverged restarts it)"),
     "pressure_tolerance": Key(float, 1e-4, lambda v: 0 < v < 1, "0 < value < 1",
                               "relative change of the interface pressure per iteration at "
                               "convergence"),
@@ -254,7 +273,7 @@ def coupling_settings(c: dict) -> CouplingSettings:
         acceleration_settings=AccelerationSettings(
             relaxation=c["relaxation"], initial_relaxation=c["initial_relaxation"],
             reuse=c["reuse"], filter_limit=c["filter_limit"], max_columns=c["max_columns"],
-            mixing=c["mixing"]),
+            mixing=c["mixing"], jacobian_windows=c["jacobian_windows"]),
         measures=[ConvergenceMeasure(PRESSURE, "relative", c["pressure_tolerance"]),
                   ConvergenceMeasure(POINTS, "relative", c["position_tolerance"])],
         max_iterations=c["max_iterations"], on_max_iterations=c["on_max_iterations"],

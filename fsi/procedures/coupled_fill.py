@@ -139,7 +139,7 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
                                density=liquid.density, viscosity=fl["viscosity"],
                                port_radius_cells=port["radius"] / grid.spacing,
                                time_scheme=liquid_scheme, convection=fluid_convection(setup),
-                               face_memory=fl["face_memory"])
+                               face_memory=fl["face_memory"], pressure_fit=fl["pressure_fit"])
     surface = membrane_surface(setup, model, fluid_model)
     fluid = FluidSolver(fluid_model, surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)

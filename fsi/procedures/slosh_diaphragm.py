@@ -142,7 +142,8 @@ def _assemble(setup, body, run, window: float) -> _Parts:
                        density=setup.liquid.density, viscosity=scene["fluid"]["viscosity"],
                        body_acceleration=body, time_scheme=liquid_scheme,
                        convection=fluid_convection(setup),
-                       face_memory=scene["fluid"]["face_memory"])
+                       face_memory=scene["fluid"]["face_memory"],
+                       pressure_fit=scene["fluid"]["pressure_fit"])
     surface = membrane_surface(setup, xpbd, model)
     fluid = FluidSolver(model, surface.of(state))
     held = liquid_volume(setup.model, state.node_position)
