@@ -111,7 +111,11 @@ class FluidParticipant:
             interface = self.surface(points, velocities)
         else:
             interface = self.solver.interface.with_state(points, velocities)
-        self.solver.advance(dt, interface, getattr(self, "start_centre", None))
+        held = getattr(self, "start_centre", None)  # absent from a checkpoint of older code
+        if held is None:
+            self.solver.advance(dt, interface)
+        else:
+            self.solver.advance(dt, interface, held)
         return {PRESSURE: self._pressure(time + dt)}
 
     def store_checkpoint(self):

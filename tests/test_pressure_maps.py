@@ -284,7 +284,7 @@ def test_the_fluid_participant_holds_its_windows_start_centres(linear_field, mon
         side = FluidParticipant(solver, level=LEVEL, surface=surface, centre_cells=name)
         side.store_checkpoint()
         side.solve_window(0.0, 1e-3, data)
-    assert seen[0] is None
+    assert seen[0] is None  # called without it
     assert np.array_equal(seen[1], start_state.geometry.fluid_centre)
     with pytest.raises(ValueError, match="centre cells"):
         FluidParticipant(solver, surface=surface, centre_cells="every")

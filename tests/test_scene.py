@@ -145,6 +145,33 @@ def test_accept_residual_reaches_the_coupling_and_is_checked():
         scene.with_keys({"coupling": {"accept_residual": 0.0}})
 
 
+def test_pressure_fit_and_centre_cells_reach_the_liquid_and_are_checked():
+    """``fluid.pressure_fit`` reaches the liquid's model, ``fluid.centre_cells`` its
+    participant (README, 'Where a window stalls short of its tolerance'); both default to the
+    liquid's map as it was."""
+    from types import SimpleNamespace
+
+    from fsi.procedures.coupled_fill import assemble, membrane_settings
+    from structure.model import MembraneState
+    from structure.xpbd import XpbdModel
+
+    scene = load_scene("diaphragm-fill").with_keys({"membrane": {"grid_size": 6},
+                                                    "fluid": {"cells": 12},
+                                                    "port": {"radius": 0.07, "length": 0.1}})
+    for fit, centres in ((None, None), ("tapered", "window")):
+        keys = {} if fit is None else {"fluid": {"pressure_fit": fit, "centre_cells": centres}}
+        setup = build(scene.with_keys(keys))
+        model = XpbdModel.from_membrane(setup.model)
+        parts = assemble(setup, model, membrane_settings(setup),
+                         MembraneState(setup.model.node_rest_position),
+                         SimpleNamespace(pressure_level=0.0))
+        assert parts.fluid.model.pressure_fit == (fit or "block")
+        assert parts.fluid_side.centre_cells == (centres or "iteration")
+    for key in ("pressure_fit", "centre_cells"):
+        with pytest.raises(SceneError, match=f"fluid.{key}"):
+            scene.with_keys({"fluid": {key: "smooth"}})
+
+
 def test_interface_velocity_reaches_the_membrane_and_is_checked():
     """``coupling.interface_velocity`` picks what the membrane sends the liquid (README, 'The
     velocity the liquid sees'); the default is the membrane's own end velocity."""

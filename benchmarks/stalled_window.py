@@ -1,0 +1,160 @@
+"""Why a coupled window stalls short of its tolerance: the window run again four ways, and the
+liquid's map probed for jumps.
+
+    python benchmarks/stalled_window.py [--scene valve-fill] [--windows 20 84 154] [--as-bundled]
+
+The coupling iterates x = H(x), H the membrane's window under the node pressures x followed by
+the liquid's under the membrane's positions. A window whose residual stops falling short of
+the tolerance (a cycle, or a floor) may sit at a jump of H: quasi-Newton steps assume H is
+smooth. For each window index K the scene is run to the start of window K with the liquid's
+map as it was before the two keys below (``fluid.pressure_fit = "block"``,
+``fluid.centre_cells = "iteration"``: :data:`BEFORE`; ``--as-bundled`` runs the scene's
+own), so that the windows that stalled in the bundled valve fill's runs are the windows
+probed, then window K is run:
+
+* as run up to it;
+* with ``fluid.centre_cells = "window"`` (the cells that carry the liquid's velocity held at
+  the window start's, :func:`fluid.geometry.hold_liquid_centres`);
+* with ``fluid.pressure_fit = "tapered"`` (fit weights that vanish at the block's edge,
+  :mod:`fluid.sampling`);
+* with both.
+
+Each: iterations, whether it converged, its smallest pressure residual. Then, around the best
+iterate of the run as run up to it, H is evaluated at x + eps d for random directions d
+(|d| = |x|) and eps = 1e-4 ... 1e-8: |H_liquid(x + eps d) - H_liquid(x)| / (eps |x|) stays
+constant where the liquid's map is smooth and grows as 1/eps across a jump (the membrane's
+positions, the same ratio in m, as a control). Prints one JSON object (about 2 min for the
+default windows of the bundled valve fill).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+import time
+from dataclasses import replace
+
+import cloudpickle
+import numpy as np
+
+from coupling import advance
+from fsi.adapters import POINTS, PRESSURE
+from fsi.build import build
+from fsi.lifecycle import Run
+from fsi.procedures.coupled_fill import fresh_start
+from fsi.scene import load_scene
+
+BEFORE = {"fluid": {"pressure_fit": "block", "centre_cells": "iteration"}}
+"""The liquid's map of the runs whose stalled windows are probed (the keys' defaults)."""
+VARIANTS = {"as run": {}, "centre cells held": {"centre_cells": "window"},
+            "tapered fit": {"pressure_fit": "tapered"},
+            "both": {"centre_cells": "window", "pressure_fit": "tapered"}}
+"""Variant -> the [fluid] keys it changes for the window probed."""
+EPSILONS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
+DIRECTIONS = 6
+
+
+def _apply(parts, keys: dict) -> None:
+    """The [fluid] ``keys`` of a variant put into the running participants."""
+    side = parts.fluid_side
+    if "centre_cells" in keys:
+        side.centre_cells = keys["centre_cells"]
+    if "pressure_fit" in keys:
+        side.solver.model = replace(side.solver.model, pressure_fit=keys["pressure_fit"])
+
+
+def _window(snapshot: bytes, keys: dict, record_inputs: bool = False):
+    """Window K from ``snapshot`` under ``keys``: (summary, parts, loop, inputs of each
+    iteration, the checkpoints of the window's start)."""
+    state = cloudpickle.loads(snapshot)
+    parts, loop = state["parts"], state["loop"]
+    _apply(parts, keys)
+    membrane, fluid = parts.membrane, parts.fluid_side
+    inputs = []
+    solve = membrane.solve_window
+    if record_inputs:
+        def recording(t, dt, data):
+            inputs.append(np.array(data[PRESSURE], copy=True))
+            return solve(t, dt, data)
+        membrane.solve_window = recording
+    start = (membrane.store_checkpoint(), fluid.store_checkpoint())
+    advance(loop, membrane, fluid)
+    membrane.solve_window = solve
+    window = loop.log.windows[-1]
+    residuals = [r[PRESSURE] for r in window.residuals]
+    summary = dict(iterations=window.iterations, converged=bool(window.converged),
+                   smallest_pressure_residual=float(min(residuals)),
+                   last_pressure_residual=float(residuals[-1]))
+    return summary, parts, loop, inputs, residuals, start
+
+
+def _jumps(parts, loop, inputs, residuals, start) -> dict:
+    """|dH| / eps around the best iterate along random directions: liquid (relative) and
+    membrane (m)."""
+    membrane, fluid = parts.membrane, parts.fluid_side
+    k = loop.k - 1
+    t, dt = loop.t0 + k * loop.dt, loop.dt
+
+    def H(p):
+        membrane.restore_checkpoint(start[0])
+        fluid.restore_checkpoint(start[1])
+        out1 = membrane.solve_window(t, dt, {PRESSURE: p})
+        return out1[POINTS].copy(), fluid.solve_window(t, dt, out1)[PRESSURE].copy()
+
+    best = inputs[int(np.argmin(residuals[:len(inputs)]))]
+    size = float(np.linalg.norm(best))
+    x0, y0 = H(best)
+    rng = np.random.default_rng(1)
+    liquid, structure = [], []
+    for _ in range(DIRECTIONS):
+        d = rng.normal(size=best.size)
+        d *= size / np.linalg.norm(d)
+        row_l, row_s = [], []
+        for eps in EPSILONS:
+            x1, y1 = H(best + eps * d)
+            row_l.append(float(np.linalg.norm(y1 - y0) / (eps * size)))
+            row_s.append(float(np.linalg.norm(x1 - x0) / eps))
+        liquid.append(row_l)
+        structure.append(row_s)
+    ratio = np.asarray(liquid)
+    return dict(epsilons=list(EPSILONS), liquid=liquid, membrane=structure,
+                directions_with_a_jump=int(np.sum(ratio.max(axis=1) > 10 * ratio.min(axis=1))))
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scene", default="valve-fill")
+    parser.add_argument("--windows", nargs="+", type=int, default=[20, 84, 154])
+    parser.add_argument("--as-bundled", action="store_true",
+                        help="run up to the windows with the scene's own [fluid] keys")
+    args = parser.parse_args(argv)
+    logging.getLogger().setLevel(logging.ERROR)
+    scene = load_scene(args.scene)
+    setup = build(scene if args.as_bundled else scene.with_keys(BEFORE))
+    dyn = setup.scene["dynamics"]
+    planned = max(1, int(round(dyn["end_time"] / dyn["window"])))
+    run = Run(lambda fraction, message: None, planned, dyn["frame_interval"])
+    state = fresh_start(setup, run, planned)
+    parts, loop = state["parts"], state["loop"]
+    t0 = time.perf_counter()
+    out = dict(scene=args.scene, run_up=setup.scene["fluid"], windows={})
+    for k in sorted(args.windows):
+        while loop.k < k:
+            advance(loop, parts.membrane, parts.fluid_side)
+        snapshot = cloudpickle.dumps(dict(parts=parts, loop=loop))
+        entry = dict(time=float(loop.t0 + (k + 1) * loop.dt))
+        for name, keys in VARIANTS.items():
+            summary, *rest = _window(snapshot, keys, record_inputs=not keys)
+            entry[name] = summary
+            if not keys:
+                entry["jumps, as run"] = _jumps(*rest)
+            print(f"window {k}: {name}: {summary}", file=sys.stderr)
+        out["windows"][str(k)] = entry
+    out["seconds"] = time.perf_counter() - t0
+    print(json.dumps(out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
