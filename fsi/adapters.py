@@ -111,7 +111,7 @@ class FluidParticipant:
             interface = self.surface(points, velocities)
         else:
             interface = self.solver.interface.with_state(points, velocities)
-        held = getattr(self, "start_centre", None)  # absent from a checkpoint of older code
+        held = getattr(self, "start_centre", None)  # absent from an older code's checkpoint
         if held is None:
             self.solver.advance(dt, interface)
         else:
@@ -120,7 +120,7 @@ class FluidParticipant:
 
     def store_checkpoint(self):
         self.start_fraction = self.solver.state.geometry.cell_fraction
-        if self.centre_cells == "window":
+        if getattr(self, "centre_cells", "iteration") == "window":
             self.start_centre = self.solver.state.geometry.fluid_centre
         return self.solver.store_checkpoint()
 
