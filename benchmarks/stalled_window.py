@@ -65,8 +65,9 @@ def _apply(parts, keys: dict) -> None:
 
 
 def _window(snapshot: bytes, keys: dict, record_inputs: bool = False):
-    """Window K from ``snapshot`` under ``keys``: (summary, parts, loop, inputs of each
-    iteration, the checkpoints of the window's start)."""
+    """Window K from ``snapshot`` under ``keys``: (summary, parts, loop, the node pressures
+    given to each iteration when ``record_inputs``, the pressure residual of each iteration,
+    the participants' checkpoints at the window's start)."""
     state = cloudpickle.loads(snapshot)
     parts, loop = state["parts"], state["loop"]
     _apply(parts, keys)
