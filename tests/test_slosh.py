@@ -1,5 +1,6 @@
 """The ``slosh`` procedure and what it is built from: the sphere's level for a tank fraction,
 the impulse, the liquid's integral measures, the force and moment on the tank."""
+import logging
 import subprocess
 import sys
 
@@ -95,6 +96,25 @@ def test_contents_response_of_a_moving_point_mass():
 def test_bad_slosh_scene_is_named(text, key):
     with pytest.raises(SceneError, match=key.replace(".", r"\.")):
         build(parse_scene("[scene]\nprocedure = 'slosh'\n" + text))
+
+
+@pytest.mark.parametrize("surface", ["limp", "linear"])
+def test_free_surfaces_name_the_membrane_liquid_keys_they_ignore(surface, caplog):
+    """A limp or linear surface has no nodes to map a pressure to and holds its own volume:
+    [fluid] keys of the liquid under a membrane, set away from their defaults, are named in
+    a warning; with their defaults (set or not) nothing is said."""
+    head = (f"[scene]\nprocedure = 'slosh'\n[slosh]\nsurface = '{surface}'\n[fluid]\n"
+            "convection = 'none'\n")
+    with caplog.at_level(logging.WARNING, logger="fsi.procedures.slosh_limp"):
+        build(parse_scene(head + "pressure_fit = 'block'\nface_memory = 'ring'\n"))
+        assert not caplog.records
+        build(parse_scene(head + "pressure_fit = 'tapered'\ncentre_cells = 'window'\n"
+                                 "face_memory = 'every-face'\n"))
+    (record,) = caplog.records
+    for key in ("fluid.pressure_fit = 'tapered'", "fluid.centre_cells = 'window'",
+                "fluid.face_memory = 'every-face'"):
+        assert key in record.getMessage()
+    assert "fluid.pressure_map" not in record.getMessage()
 
 
 def test_bad_surface_lists_every_registered_surface():

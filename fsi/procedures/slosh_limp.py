@@ -11,6 +11,8 @@ surface.
 """
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from fluid.free_surface import column_rates, surface_of
@@ -22,8 +24,23 @@ from fluid.tank import tank_grid
 from ..lateral_compliance import Compliance, free_surface_compliance
 from ..limp import HeightSurface, advance_heights
 from ..lifecycle import Run
-from .coupled import fluid_convection
+from .coupled import FLUID, fluid_convection
 from .slosh_surfaces import Contents, Start, SurfaceWindows, register_surface
+
+log = logging.getLogger(__name__)
+
+MEMBRANE_FLUID_KEYS = ("volume", "face_memory", "pressure_map", "pressure_cells",
+                       "pressure_fit", "centre_cells")
+"""[fluid] keys of the liquid under a membrane that a limp (or linear) surface has no use for:
+it holds its volume itself, its step keeps every face's history, and it has no nodes to map
+a pressure to. Set away from their defaults they are named in a warning
+(:func:`ignored_fluid_keys`)."""
+
+
+def ignored_fluid_keys(scene) -> list[str]:
+    """The :data:`MEMBRANE_FLUID_KEYS` that ``scene`` sets away from their defaults."""
+    return [f"fluid.{k} = {scene['fluid'][k]!r}" for k in MEMBRANE_FLUID_KEYS
+            if scene["fluid"][k] != FLUID[k].default]
 
 
 def node_areas(surface: HeightSurface, spacing: float, radius: float, level: float,
@@ -45,6 +62,13 @@ class LimpWindows(SurfaceWindows):
 
     #: the liquid step's interface condition (:data:`fluid.projection.STEPPERS`)
     interface_condition = "free"
+
+    @classmethod
+    def check(cls, scene) -> None:
+        ignored = ignored_fluid_keys(scene)
+        if ignored:
+            log.warning("slosh.surface = %r ignores %s (keys of the liquid under a membrane)",
+                        scene["slosh"]["surface"], ", ".join(ignored))
 
     def __init__(self, setup, start: Start, body, run: Run, window: float, n_windows: int):
         super().__init__(window, n_windows)

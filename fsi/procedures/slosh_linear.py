@@ -32,6 +32,7 @@ class LinearWindows(LimpWindows):
 
     @classmethod
     def check(cls, scene) -> None:
+        super().check(scene)
         convection = scene["fluid"]["convection"]
         if convection != "none":
             raise SceneError(f"scene key 'fluid.convection' = {convection!r}: slosh.surface = "
