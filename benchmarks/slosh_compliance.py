@@ -153,9 +153,15 @@ def plot(cases: list[dict]) -> None:
     ax.set_title("Table 4.1 diaphragm: static lateral compliance")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
+    save_figure(fig, FIGURE)
+
+
+def save_figure(fig, path: Path) -> None:
+    """Write ``fig`` to ``path`` (under :data:`OUTPUT`) and close it."""
+    import matplotlib.pyplot as plt
     OUTPUT.mkdir(exist_ok=True)
     fig.tight_layout()
-    fig.savefig(FIGURE, dpi=120)
+    fig.savefig(path, dpi=120)
     plt.close(fig)
 
 
