@@ -6,7 +6,9 @@ The case: the bundled ``diaphragm-fill`` (Table 4.1 diaphragm, start at tank fra
 2 ms windows, pressure tolerance 1e-4):
 
 * fluid grid 16^3, 24^3, 32^3 cells;
-* membrane grid N = 14, 20, 26, under the full law and under the tension field
+* membrane grid N = 14, 20, 26, under the full law (each grid's own start, and every grid's
+  start carried from N = 14's, ``dynamics.start_grid``: one fold state, README, 'One fold
+  state through the grids') and under the tension field
   (``membrane.wrinkling``: compression relaxed, README, 'The tension-field diaphragm'), and
   the tension field one grid further, N = 20, 26, 32 (about 17 min, so not in
   :data:`DEFAULT_FAMILIES`);
@@ -48,17 +50,21 @@ THESIS_FSI_SECONDS = 4 * 7 * 24 * 3600.0
 """The thesis's coupled Fluent-Transient Structural run: 4+ weeks, not finished (s)."""
 TENSION_FIELD_FURTHER = "membrane grid, tension field, N = 20-32"
 """The tension-field membrane grid one grid further: about 17 min, not in a plain study."""
+ONE_FOLD_STATE = "membrane grid, one fold state"
+"""The membrane grid with every grid's start carried from N = 14's (``dynamics.start_grid``)."""
 FAMILIES = {
     "fluid cells": ("fluid", "cells", [16, 24, 32], {}),
     "membrane grid": ("membrane", "grid_size", [14, 20, 26], {}),
+    ONE_FOLD_STATE: ("membrane", "grid_size", [14, 20, 26], {"dynamics": {"start_grid": 14}}),
     "membrane grid, tension field": ("membrane", "grid_size", [14, 20, 26],
-                                     {"wrinkling": "tension-field"}),
+                                     {"membrane": {"wrinkling": "tension-field"}}),
     TENSION_FIELD_FURTHER: ("membrane", "grid_size", [20, 26, 32],
-                            {"wrinkling": "tension-field"}),
-    "window (s)": ("dynamics", "window", [0.016, 0.008, 0.004], {"substep_fraction": 0.266}),
+                            {"membrane": {"wrinkling": "tension-field"}}),
+    "window (s)": ("dynamics", "window", [0.016, 0.008, 0.004],
+                   {"dynamics": {"substep_fraction": 0.266}}),
     "coupling tolerance": ("coupling", "pressure_tolerance", [1e-3, 1e-4, 1e-5], {}),
 }
-"""Family -> (scene table, key, values coarse to fine, other keys of that table held)."""
+"""Family -> (scene table, key, values coarse to fine, other keys held: {table: {key: value}})."""
 DEFAULT_FAMILIES = tuple(name for name in FAMILIES if name != TENSION_FIELD_FURTHER)
 """The families a plain study runs (about 6 min on 2 cores)."""
 
@@ -69,7 +75,8 @@ def run(table: str, key: str, value, end_time: float, held: dict) -> dict:
     end and ``level_mean`` over the windows ending in the run's second half (Pa), liquid
     centre of mass (3,) m, end node positions (n, 3) m and faces, mean coupling iterations
     and wall seconds."""
-    changes = {table: {**held, key: value}}
+    changes = {t: dict(keys) for t, keys in held.items()}
+    changes.setdefault(table, {})[key] = value
     changes["dynamics"] = {**changes.get("dynamics", {}), "end_time": end_time,
                            "frame_interval": 100_000}
     setup = build(load_scene("diaphragm-fill").with_keys(changes))

@@ -4,6 +4,9 @@ grid, fixed nodes at rest."""
 import numpy as np
 import pytest
 
+from fsi.build import build
+from fsi.scene import SceneError, load_scene
+
 from structure.model import Material, disc_model, hemisphere_model
 from structure.prolongation import locate, prolong
 
@@ -62,3 +65,41 @@ def test_a_state_of_another_grid_shape_is_refused():
     fine = hemisphere_model(20, RADIUS, MATERIAL)
     with pytest.raises(ValueError, match="shape"):
         prolong(coarse, fine.node_rest_position, fine)
+
+
+@pytest.mark.parametrize("keys, match", [
+    ({"dynamics": {"start_grid": 20}}, "from 4 to membrane.grid_size = 14"),
+    ({"dynamics": {"start_grid": 7}}, "an even N0"),
+    ({"dynamics": {"start_grid": 10}, "membrane": {"wrinkling": "tension-field"}},
+     "no tension field"),
+])
+def test_a_start_grid_the_run_cannot_use_is_refused_by_name(keys, match):
+    with pytest.raises(SceneError, match=r"dynamics\.start_grid") as err:
+        build(load_scene("diaphragm-fill").with_keys(keys))
+    assert match in str(err.value)
+
+
+def test_a_start_carried_from_a_coarser_grid_is_that_grids_fold_state_at_rest_here():
+    """``dynamics.start_grid`` = 10 on the N = 14 diaphragm-fill: the start is the N = 10
+    start carried and polished (the shell model), then settled by the run's XPBD substeps:
+    it converges, holds the start volume, and is another equilibrium than N = 14's own start;
+    start_grid = grid_size is the own start, bit for bit."""
+    from fsi.procedures.coupled_fill import membrane_settings, static_start
+    from structure.volume import liquid_volume
+    from structure.xpbd import XpbdModel
+
+    def start(keys):
+        setup = build(load_scene("diaphragm-fill").with_keys(keys))
+        state, info = static_start(setup, XpbdModel.from_membrane(setup.model),
+                                   membrane_settings(setup))
+        return setup, state, info
+
+    setup, own, own_info = start({})
+    _, same, _ = start({"dynamics": {"start_grid": 14}})
+    np.testing.assert_array_equal(same.node_position, own.node_position)
+    _, carried, info = start({"dynamics": {"start_grid": 10}})
+    assert info.converged
+    volume = liquid_volume(setup.model, own.node_position)
+    assert abs(liquid_volume(setup.model, carried.node_position) - volume) <= 1e-6 * volume
+    moved = np.linalg.norm(carried.node_position - own.node_position, axis=1).max()
+    assert moved > 1e-3, moved  # m: another fold state than the own start's

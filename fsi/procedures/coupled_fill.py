@@ -38,6 +38,7 @@ from structure.volume import FillScale, liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
+from ..carried_start import carried_start
 from ..checkpoint import CheckpointDue, write as write_checkpoint
 from ..lifecycle import Progress, Run, RunResult, membrane_frame
 from ..models import hydrostatic_load
@@ -100,10 +101,16 @@ def membrane_settings(setup) -> XpbdSettings:
 
 def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     """The membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction) under the
-    hydrostatic liquid, by damped XPBD at the dynamics' substep: (state, Equilibrium)."""
-    fill = setup.scene["dynamics"]["start_fill"]
-    volume = float(FillScale.tank(setup.model.radius).volume(fill))
-    return static_equilibrium(setup, model, settings, volume)
+    hydrostatic liquid, by damped XPBD at the dynamics' substep: (state, Equilibrium); from
+    the start of the grid ``dynamics.start_grid`` carried here (:mod:`fsi.carried_start`)
+    when that is set."""
+    dyn = setup.scene["dynamics"]
+    volume = float(FillScale.tank(setup.model.radius).volume(dyn["start_fill"]))
+    state = None
+    if dyn["start_grid"] and dyn["start_grid"] != setup.scene["membrane"]["grid_size"]:
+        state, _ = carried_start(setup, dyn["start_grid"], volume, lambda coarse: static_start(
+            coarse, XpbdModel.from_membrane(coarse.model), membrane_settings(coarse)))
+    return static_equilibrium(setup, model, settings, volume, state)
 
 
 def static_equilibrium(setup, model: XpbdModel, settings: XpbdSettings, volume: float,
