@@ -11,7 +11,8 @@ scene's static start is found once, on the first grid (its damped XPBD relaxatio
 coupled run starts), and carried to each finer grid (:func:`structure.prolongation.prolong`;
 with ``--chain`` each grid's minimum is carried to the next instead) where the shell model
 polishes it to an exact potential-energy minimum holding the same
-liquid volume (:mod:`structure.shell`): the same fold state, refined. On each grid the
+liquid volume (:func:`fsi.carried_start.polish`; where that does not converge, again after
+2000 of the start's XPBD substeps): the same fold state, refined. On each grid the
 contents' static lateral compliance C = d x_c / d b_x (:mod:`fsi.lateral_compliance`) comes
 from two more shell solves under b = (+-tilt, 0, -g) m/s^2 from that minimum.
 
@@ -35,10 +36,12 @@ import json
 import logging
 import sys
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from fsi.build import build
+from fsi.carried_start import SETTLE_SUBSTEPS, polish
 from fsi.compare import eqn_6_1_error
 from fsi.extrapolation import observed_order, richardson
 from fsi.lateral_compliance import first_mode_bound, free_surface_compliance
@@ -49,7 +52,7 @@ from fluid.container import SphericalTank
 from structure.model import MembraneState
 from structure.prolongation import prolong
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
-from structure.xpbd import XpbdModel
+from structure.xpbd import XpbdModel, solve_equilibrium as xpbd_solve
 
 from slosh_compliance import OUTPUT, energies, save_figure
 
@@ -66,14 +69,18 @@ def grid_case(setup, start: StaticStart, tilts, settings: ShellSettings) -> tupl
     (its StaticStart, the case's dict)."""
     t0 = time.perf_counter()
     shell = ShellModel.from_membrane(setup.model, settings)
+    xpbd = XpbdModel.from_membrane(setup.model)
 
     def solve(state, load):
         return shell_solve(shell, state, load, settings)
 
-    state, info = solve(start.state, hydrostatic_load(setup.liquid, start.volume,
-                                                      start.info.pressure_level))
-    polished = StaticStart(XpbdModel.from_membrane(setup.model), start.settings, start.volume,
-                           state, info)
+    def settle(state, level):
+        return xpbd_solve(xpbd, state, hydrostatic_load(setup.liquid, start.volume, level),
+                          replace(start.settings, max_steps=SETTLE_SUBSTEPS))
+
+    state, info = polish(setup, start.state.node_position, start.volume,
+                         start.info.pressure_level, settle)
+    polished = StaticStart(xpbd, start.settings, start.volume, state, info)
     seconds_start = time.perf_counter() - t0
     comp = [start_compliance(setup, polished, t, solve) for t in tilts]
     radius = setup.model.radius
