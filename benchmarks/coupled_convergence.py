@@ -6,8 +6,8 @@ one at a time, with the observed order, and the speed-against-accuracy chart.
 The study is :mod:`fsi.coupled_study` (the case, the families, the observed order and the
 anchor are defined there; ``notebooks/speed_vs_accuracy.ipynb`` reads the same).  Writes
 ``benchmarks/output/coupled_convergence.json``, ``coupled_convergence.png`` and
-``coupled_speed_accuracy.png``; prints one JSON object.  Default run: about 6 min on 2 cores
-(4.5 of them the tension-field family); ``--families "membrane grid, tension field, N = 20-32"``
+``coupled_speed_accuracy.png``; prints one JSON object.  Default run: about 9 min on 2 cores
+(4.5 of them the tension-field family, 3 the one-fold-state family); ``--families "membrane grid, tension field, N = 20-32"``
 takes the tension field one grid further (about 17 min).
 """
 from __future__ import annotations

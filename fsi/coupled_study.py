@@ -66,7 +66,7 @@ FAMILIES = {
 }
 """Family -> (scene table, key, values coarse to fine, other keys held: {table: {key: value}})."""
 DEFAULT_FAMILIES = tuple(name for name in FAMILIES if name != TENSION_FIELD_FURTHER)
-"""The families a plain study runs (about 6 min on 2 cores)."""
+"""The families a plain study runs (about 9 min on 2 cores)."""
 
 
 def run(table: str, key: str, value, end_time: float, held: dict) -> dict:
