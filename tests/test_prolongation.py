@@ -103,3 +103,37 @@ def test_a_start_carried_from_a_coarser_grid_is_that_grids_fold_state_at_rest_he
     assert abs(liquid_volume(setup.model, carried.node_position) - volume) <= 1e-6 * volume
     moved = np.linalg.norm(carried.node_position - own.node_position, axis=1).max()
     assert moved > 1e-3, moved  # m: another fold state than the own start's
+
+
+def test_a_polish_that_does_not_converge_is_settled_and_tried_again(monkeypatch):
+    """:func:`fsi.carried_start.polish`: a first minimum that converges is returned as it is
+    and ``settle`` is not called; one that does not is followed by ``settle`` from the
+    carried state and a second minimum from the settled state and its level."""
+    import fsi.carried_start as cs
+    from structure.load import Equilibrium
+    from structure.model import MembraneState
+
+    setup = build(load_scene("diaphragm-fill"))
+    x = setup.model.node_rest_position
+    calls, settled = [], []
+
+    def minimum(converged_first):
+        def solve(shell, state, load, settings):
+            calls.append((state.node_position.copy(), load.pressure_level))
+            ok = converged_first or len(calls) > 1
+            return state, Equilibrium(1, ok, 10.0 * len(calls), 0.0, force_ratio=0.0)
+        return solve
+
+    def settle(state, level):
+        settled.append(level)
+        return MembraneState(state.node_position + 1e-3), Equilibrium(1, False, 77.0, 0.0)
+
+    monkeypatch.setattr(cs, "solve_equilibrium", minimum(True))
+    _, info = cs.polish(setup, x, 0.01, 5.0, settle)
+    assert info.converged and len(calls) == 1 and not settled
+    calls.clear()
+    monkeypatch.setattr(cs, "solve_equilibrium", minimum(False))
+    state, info = cs.polish(setup, x, 0.01, 5.0, settle)
+    assert settled == [5.0] and len(calls) == 2 and info.converged
+    np.testing.assert_array_equal(calls[1][0], x + 1e-3)  # from the settled state
+    assert calls[1][1] == 77.0                             # and its level
