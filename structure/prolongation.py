@@ -45,10 +45,12 @@ def locate(coarse: MembraneModel, point_rest: np.ndarray) -> tuple[np.ndarray, n
                      np.einsum("mki,mki->mk", e2, e2))
     r1, r2 = np.einsum("mki,mki->mk", d, e1), np.einsum("mki,mki->mk", d, e2)
     det = g11 * g22 - g12 * g12
+    flat = det <= 1e-12 * g11 * g22                               # a degenerate triangle
+    det = np.where(flat, 1.0, det)
     u = (g22 * r1 - g12 * r2) / det
     v = (g11 * r2 - g12 * r1) / det
     w = np.stack([1.0 - u - v, u, v], axis=-1)                     # (m, k, 3)
-    best = np.argmax(w.min(axis=-1), axis=1)
+    best = np.argmax(np.where(flat, -np.inf, w.min(axis=-1)), axis=1)
     rows = np.arange(len(point_rest))
     weights = np.clip(w[rows, best], 0.0, None)
     weights /= weights.sum(axis=1, keepdims=True)

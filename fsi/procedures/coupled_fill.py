@@ -110,9 +110,9 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     if dyn["start_grid"] and dyn["start_grid"] != setup.scene["membrane"]["grid_size"]:
         xpbd = replace(settings, max_steps=SETTLE_SUBSTEPS)
 
-        def settle(state, level):
-            return solve_equilibrium(model, state, hydrostatic_load(setup.liquid, volume, level),
-                                     xpbd)
+        def settle(carried, level):
+            return solve_equilibrium(model, carried,
+                                     hydrostatic_load(setup.liquid, volume, level), xpbd)
 
         state, _ = carried_start(setup, dyn["start_grid"], volume, lambda coarse: static_start(
             coarse, XpbdModel.from_membrane(coarse.model), membrane_settings(coarse)), settle)
