@@ -53,6 +53,14 @@ def _check_motion(motion: dict) -> None:
                          f"'table' needs at least two rows [t, ax, ay, az]")
 
 
+START_GRID = Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
+                 "0, or an even N0 >= 4 not above membrane.grid_size",
+                 "0: the static start relaxed on membrane.grid_size itself; N0: relaxed on the "
+                 "grid N0, carried to membrane.grid_size and polished there by the shell model, "
+                 "so that runs on several grids start from one fold state (README, 'One fold "
+                 "state through the grids')")
+"""dynamics.start_grid and slosh.start_grid (:mod:`fsi.carried_start`)."""
+
 DYNAMICS = Table({
     "start_fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
                       "tank fraction V / (4/3 pi R^3) at t = 0, static equilibrium"),
@@ -78,12 +86,7 @@ DYNAMICS = Table({
     "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,
                             "0 < value <= 1", "XPBD substep / explicit limit of the load "
                             "(0.3: about 1 % stiffness bias, README)"),
-    "start_grid": Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
-                      "0, or an even N0 >= 4 not above membrane.grid_size",
-                      "0: the static start relaxed on membrane.grid_size itself; N0: relaxed "
-                      "on the grid N0, carried to membrane.grid_size and polished there by the "
-                      "shell model, so that runs on several grids start from one fold state "
-                      "(README, 'One fold state through the grids')"),
+    "start_grid": START_GRID,
     "node_damping": Key(float, 0.0, lambda v: 0 <= v <= 10, "0 <= value <= 10 N s/m",
                         "coupling.time_scheme = euler: c of the membrane substeps' damping of "
                         "each node's velocity relative to its neighbours', c sum_j (v_j - v_i) "
@@ -344,17 +347,17 @@ def check_coupled_fill(setup) -> None:
     check_port(setup)
     check_interface_velocity(setup.scene)
     check_node_damping(setup.scene)
-    check_start_grid(setup.scene)
+    check_start_grid(setup.scene, "dynamics")
 
 
-def check_start_grid(scene) -> None:
-    """``dynamics.start_grid`` N0 > 0: not above ``membrane.grid_size``, and the full law
+def check_start_grid(scene, table: str) -> None:
+    """``<table>.start_grid`` N0 > 0: not above ``membrane.grid_size``, and the full law
     (the shell model that polishes the carried start has no tension field)."""
-    n0, membrane = scene["dynamics"]["start_grid"], scene["membrane"]
+    n0, membrane = scene[table]["start_grid"], scene["membrane"]
     if n0 > membrane["grid_size"]:
-        raise SceneError(f"scene key 'dynamics.start_grid' = {n0!r}: allowed 0, or an even N0 "
+        raise SceneError(f"scene key '{table}.start_grid' = {n0!r}: allowed 0, or an even N0 "
                          f"from 4 to membrane.grid_size = {membrane['grid_size']!r}")
     if n0 and membrane["wrinkling"] != "none":
-        raise SceneError(f"scene key 'dynamics.start_grid' = {n0!r}: the carried start is "
+        raise SceneError(f"scene key '{table}.start_grid' = {n0!r}: the carried start is "
                          f"polished by the shell model, which has no tension field "
                          f"(membrane.wrinkling = {membrane['wrinkling']!r}); allowed 0")

@@ -25,6 +25,7 @@
 from __future__ import annotations
 
 import logging
+from dataclasses import replace
 
 import numpy as np
 
@@ -41,7 +42,7 @@ from ..motion import body_acceleration, tank_acceleration
 from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
 from ..slosh_analysis import stokes_layer
 from ..slosh_response import contents_response, first_mode
-from .coupled import COUPLING, FLUID, MOTION
+from .coupled import COUPLING, FLUID, MOTION, START_GRID
 from .coupled_fill import START_TOLERANCE
 from .slosh_limp import LimpWindows  # noqa: F401  (registers "limp", the default, first)
 from .slosh_diaphragm import DiaphragmWindows  # noqa: F401  (registers "diaphragm")
@@ -115,6 +116,7 @@ SLOSH = Table({
                            "diaphragm: the static start (and its tilted solves) converged when "
                            "no node moves more than this fraction of its size per substep "
                            "(looser: tilted solves stop before they move; README)"),
+    "start_grid": replace(START_GRID, doc="diaphragm: " + START_GRID.doc),
     "end_time": Key(float, 5.0, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 25, lambda v: v >= 1, ">= 1",
                           "windows between recorded surface frames"),

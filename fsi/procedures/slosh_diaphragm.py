@@ -5,8 +5,10 @@ coupled in time.
   holding the liquid volume of the tank fraction ``slosh.fill`` under the hydrostatic load,
   relaxed from the manufactured shape at the statics' substep (so that the fold state it
   lands in does not depend on the window: at 1 / 2 / 4 ms it stored 3.10 / 3.07 / 3.20 J
-  when relaxed at each window's substep, 3.1006 / 3.1009 / 3.1011 J this way, N = 10),
-  then settled at the windows' substep and sweeps so that it is at rest under them;
+  when relaxed at each window's substep, 3.1006 / 3.1009 / 3.1011 J this way, N = 10), or,
+  with ``slosh.start_grid`` = N0, the grid N0's start carried here and polished
+  (:mod:`fsi.carried_start`), then settled at the windows' substep and sweeps so that it is
+  at rest under them;
   the port is shut, so the membrane holds that volume throughout and the multiplier of the
   volume is the uniform pressure level (:mod:`fsi.adapters`). Its static lateral
   compliance comes from two more solves by the same XPBD settings, under b = (+-0.05, 0, -g)
@@ -43,12 +45,14 @@ from structure.volume import liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import PRESSURE, MembraneParticipant, MembraneSurface
+from ..carried_start import SETTLE_SUBSTEPS, carried_start
 from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
                                   static_compliance)
 from ..lifecycle import Run
 from ..models import hydrostatic_load, statics_substep
-from .coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity, coupling_settings,
-                      fluid_convection, fluid_participant, membrane_surface, window_substep)
+from .coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity, check_start_grid,
+                      coupling_settings, fluid_convection, fluid_participant, membrane_surface,
+                      window_substep)
 from .coupled_fill import START_MAX_STEPS, static_equilibrium
 from .slosh_surfaces import Contents, SurfaceWindows, register_surface
 
@@ -109,6 +113,10 @@ class StaticStart:
     state: object
     info: object
 
+    def as_pair(self) -> tuple:
+        """(state, Equilibrium), as a static solve returns them."""
+        return self.state, self.info
+
 
 def static_start(setup, window: float) -> StaticStart:
     """The membrane's static equilibrium holding the tank fraction ``slosh.fill`` (module
@@ -121,7 +129,16 @@ def static_start(setup, window: float) -> StaticStart:
     volume = table["fill"] * tank_volume(setup.model.radius)
     # the fold state from a path that does not depend on the window: relaxed at the statics'
     # substep, then settled at the windows' (same sweeps) so that it is at rest under them
-    state, _ = static_equilibrium(setup, xpbd, replace(settings, dt=statics_substep(setup)), volume)
+    statics = replace(settings, dt=statics_substep(setup))
+    if table["start_grid"] and table["start_grid"] != setup.scene["membrane"]["grid_size"]:
+        def settle(carried, level):
+            return solve_equilibrium(xpbd, carried, hydrostatic_load(setup.liquid, volume, level),
+                                     replace(statics, max_steps=SETTLE_SUBSTEPS))
+
+        state, _ = carried_start(setup, table["start_grid"], volume,
+                                 lambda coarse: static_start(coarse, window).as_pair(), settle)
+    else:
+        state, _ = static_equilibrium(setup, xpbd, statics, volume)
     state, info = static_equilibrium(setup, xpbd, settings, volume, state)
     return StaticStart(xpbd, settings, volume, state, info)
 
@@ -235,6 +252,7 @@ class DiaphragmWindows(SurfaceWindows):
     @classmethod
     def check(cls, scene) -> None:
         check_interface_velocity(scene)
+        check_start_grid(scene, "slosh")
 
     def step(self, run: Run) -> None:
         membrane, window = self.parts.membrane, self.window
