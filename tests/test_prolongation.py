@@ -151,6 +151,7 @@ def test_a_slosh_start_grid_the_diaphragm_cannot_use_is_refused_by_name(keys, ma
     assert match in str(err.value)
 
 
+@pytest.mark.slow
 def test_the_slosh_start_carried_from_a_coarser_grid_is_at_rest_and_holds_its_volume():
     """``slosh.start_grid`` = 6 on the N = 10 slosh-diaphragm: the start is the N = 6 start
     carried, polished and settled at the windows' substep: it converges, holds the tank
