@@ -36,23 +36,21 @@ import json
 import logging
 import sys
 import time
-from dataclasses import replace
 
 import numpy as np
 
 from fsi.build import build
-from fsi.carried_start import SETTLE_SUBSTEPS, polish
+from fsi.carried_start import polish, xpbd_settle
 from fsi.compare import eqn_6_1_error
 from fsi.extrapolation import observed_order, richardson
 from fsi.lateral_compliance import first_mode_bound, free_surface_compliance
 from fsi.procedures.slosh_diaphragm import StaticStart, start_compliance, static_start
 from fsi.scene import load_scene
-from fsi.models import hydrostatic_load
 from fluid.container import SphericalTank
 from structure.model import MembraneState
 from structure.prolongation import prolong
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
-from structure.xpbd import XpbdModel, solve_equilibrium as xpbd_solve
+from structure.xpbd import XpbdModel
 
 from slosh_compliance import OUTPUT, energies, save_figure
 
@@ -74,12 +72,9 @@ def grid_case(setup, start: StaticStart, tilts, settings: ShellSettings) -> tupl
     def solve(state, load):
         return shell_solve(shell, state, load, settings)
 
-    def settle(state, level):
-        return xpbd_solve(xpbd, state, hydrostatic_load(setup.liquid, start.volume, level),
-                          replace(start.settings, max_steps=SETTLE_SUBSTEPS))
-
     state, info = polish(setup, start.state.node_position, start.volume,
-                         start.info.pressure_level, settle)
+                         start.info.pressure_level,
+                         xpbd_settle(setup, xpbd, start.settings, start.volume), settings)
     polished = StaticStart(xpbd, start.settings, start.volume, state, info)
     seconds_start = time.perf_counter() - t0
     comp = [start_compliance(setup, polished, t, solve) for t in tilts]

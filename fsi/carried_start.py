@@ -11,6 +11,7 @@ would any start. README, 'One fold state through the grids'.
 from __future__ import annotations
 
 import logging
+from dataclasses import replace
 from typing import Callable, Optional
 
 import numpy as np
@@ -18,6 +19,7 @@ import numpy as np
 from structure.model import MembraneState
 from structure.prolongation import prolong
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium
+from structure.xpbd import solve_equilibrium as xpbd_equilibrium
 
 from .build import build
 from .models import hydrostatic_load
@@ -31,14 +33,32 @@ alone stopped at a force ratio of 13 (level -27 kPa); after 2000 damped substeps
 converged (2.4e-4, 118 Pa)."""
 
 
+def carries(setup, start_grid: int) -> bool:
+    """Whether a start grid of ``start_grid`` (0: none) asks for a carried start on the grid
+    of ``setup``."""
+    return bool(start_grid) and start_grid != setup.scene["membrane"]["grid_size"]
+
+
+def xpbd_settle(setup, model, settings, volume: float) -> Callable:
+    """``settle(state, level)`` for :func:`polish`: :data:`SETTLE_SUBSTEPS` of the XPBD
+    ``model`` at ``settings`` toward ``volume`` (m^3) under the hydrostatic liquid."""
+    capped = replace(settings, max_steps=SETTLE_SUBSTEPS)
+
+    def settle(state, level):
+        return xpbd_equilibrium(model, state, hydrostatic_load(setup.liquid, volume, level),
+                                capped)
+    return settle
+
+
 def polish(setup, node_position: np.ndarray, volume: float, level: float,
-           settle: Optional[Callable] = None) -> tuple[MembraneState, object]:
+           settle: Optional[Callable] = None,
+           settings: ShellSettings = ShellSettings()) -> tuple[MembraneState, object]:
     """The shell model's minimum on the grid of ``setup`` from ``node_position`` (n, 3) m,
     holding ``volume`` (m^3) under the hydrostatic liquid, the level started at ``level``
     (Pa): (state, :class:`structure.load.Equilibrium`). When it does not converge and
     ``settle(state, level)`` -> (state, Equilibrium) is given (:data:`SETTLE_SUBSTEPS` of
-    the caller's XPBD), the carried state is settled and polished again."""
-    settings = ShellSettings()
+    the caller's XPBD), the carried state is settled and polished again. ``settings``: the
+    shell's solve."""
     shell = ShellModel.from_membrane(setup.model, settings)
 
     def minimum(state, guess):

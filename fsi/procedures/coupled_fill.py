@@ -24,7 +24,7 @@ Groups written: ``frames`` (every ``dynamics.frame_interval`` windows and t = 0)
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -38,7 +38,7 @@ from structure.volume import FillScale, liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
-from ..carried_start import SETTLE_SUBSTEPS, carried_start
+from ..carried_start import carried_start, carries, xpbd_settle
 from ..checkpoint import CheckpointDue, write as write_checkpoint
 from ..lifecycle import Progress, Run, RunResult, membrane_frame
 from ..models import hydrostatic_load
@@ -107,15 +107,10 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     dyn = setup.scene["dynamics"]
     volume = float(FillScale.tank(setup.model.radius).volume(dyn["start_fill"]))
     state = None
-    if dyn["start_grid"] and dyn["start_grid"] != setup.scene["membrane"]["grid_size"]:
-        xpbd = replace(settings, max_steps=SETTLE_SUBSTEPS)
-
-        def settle(carried, level):
-            return solve_equilibrium(model, carried,
-                                     hydrostatic_load(setup.liquid, volume, level), xpbd)
-
+    if carries(setup, dyn["start_grid"]):
         state, _ = carried_start(setup, dyn["start_grid"], volume, lambda coarse: static_start(
-            coarse, XpbdModel.from_membrane(coarse.model), membrane_settings(coarse)), settle)
+            coarse, XpbdModel.from_membrane(coarse.model), membrane_settings(coarse)),
+            xpbd_settle(setup, model, settings, volume))
     return static_equilibrium(setup, model, settings, volume, state)
 
 

@@ -45,7 +45,7 @@ from structure.volume import liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
 from ..adapters import PRESSURE, MembraneParticipant, MembraneSurface
-from ..carried_start import SETTLE_SUBSTEPS, carried_start
+from ..carried_start import carried_start, carries, xpbd_settle
 from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
                                   static_compliance)
 from ..lifecycle import Run
@@ -130,13 +130,10 @@ def static_start(setup, window: float) -> StaticStart:
     # the fold state from a path that does not depend on the window: relaxed at the statics'
     # substep, then settled at the windows' (same sweeps) so that it is at rest under them
     statics = replace(settings, dt=statics_substep(setup))
-    if table["start_grid"] and table["start_grid"] != setup.scene["membrane"]["grid_size"]:
-        def settle(carried, level):
-            return solve_equilibrium(xpbd, carried, hydrostatic_load(setup.liquid, volume, level),
-                                     replace(statics, max_steps=SETTLE_SUBSTEPS))
-
+    if carries(setup, table["start_grid"]):
         state, _ = carried_start(setup, table["start_grid"], volume,
-                                 lambda coarse: static_start(coarse, window).as_pair(), settle)
+                                 lambda coarse: static_start(coarse, window).as_pair(),
+                                 xpbd_settle(setup, xpbd, statics, volume))
     else:
         state, _ = static_equilibrium(setup, xpbd, statics, volume)
     state, info = static_equilibrium(setup, xpbd, settings, volume, state)
