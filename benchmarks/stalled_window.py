@@ -17,9 +17,12 @@ probed, then window K is run:
   the window start's, :func:`fluid.geometry.hold_liquid_centres`);
 * with ``fluid.pressure_fit = "tapered"`` (fit weights that vanish at the block's edge,
   :mod:`fluid.sampling`);
-* with both.
+* with both;
+* as run, then, as ``coupling.on_max_iterations = "newton"`` does, Newton steps from its best
+  iterate on a finite-difference Jacobian of H (:mod:`coupling.newton`).
 
-Each: iterations, whether it converged, its smallest pressure residual. Then, around the best
+Each: iterations, whether it converged, its smallest pressure residual (and the solves spent
+on the Jacobian). Then, around the best
 iterate of the run as run up to it, H is evaluated at x + eps d for random directions d
 (|d| = |x|) and eps = 1e-4 ... 1e-8: |H_liquid(x + eps d) - H_liquid(x)| / (eps |x|) stays
 constant where the liquid's map is smooth and grows as 1/eps across a jump (the membrane's
@@ -49,8 +52,9 @@ BEFORE = {"fluid": {"pressure_fit": "block", "centre_cells": "iteration"}}
 """The liquid's map of the runs whose stalled windows are probed (the keys' defaults)."""
 VARIANTS = {"as run": {}, "centre cells held": {"centre_cells": "window"},
             "tapered fit": {"pressure_fit": "tapered"},
-            "both": {"centre_cells": "window", "pressure_fit": "tapered"}}
-"""Variant -> the [fluid] keys it changes for the window probed."""
+            "both": {"centre_cells": "window", "pressure_fit": "tapered"},
+            "Newton steps": {"on_max_iterations": "newton"}}
+"""Variant -> the [fluid] keys (or ``on_max_iterations``) it changes for the window probed."""
 EPSILONS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 DIRECTIONS = 6
 
@@ -71,6 +75,8 @@ def _window(snapshot: bytes, keys: dict, record_inputs: bool = False):
     state = cloudpickle.loads(snapshot)
     parts, loop = state["parts"], state["loop"]
     _apply(parts, keys)
+    if "on_max_iterations" in keys:
+        loop.settings = replace(loop.settings, on_max_iterations=keys["on_max_iterations"])
     membrane, fluid = parts.membrane, parts.fluid_side
     inputs = []
     solve = membrane.solve_window
@@ -86,7 +92,8 @@ def _window(snapshot: bytes, keys: dict, record_inputs: bool = False):
     residuals = [r[PRESSURE] for r in window.residuals]
     summary = dict(iterations=window.iterations, converged=bool(window.converged),
                    smallest_pressure_residual=float(min(residuals)),
-                   last_pressure_residual=float(residuals[-1]))
+                   last_pressure_residual=float(residuals[-1]),
+                   jacobian_solves=window.jacobian_solves)
     return summary, parts, loop, inputs, residuals, start
 
 

@@ -20,7 +20,11 @@ On reaching ``max_iterations`` without convergence the scheme raises :class:`Cou
 every measured residual is at most ``accept_residual``, else it raises as ``"error"`` does),
 accepts the window's best iterate in the same way (``"accept-best"``: the iteration whose
 largest residual over its measure's limit was smallest, its two solves repeated from the
-window's start with that iteration's input, one iteration more), or
+window's start with that iteration's input, one iteration more), goes on from the best
+iterate by Newton steps on a finite-difference Jacobian of the fixed-point map
+(``"newton"``: one solve of both participants per entry of the accelerated vector, then at
+most ``newton_iterations`` steps, :mod:`coupling.newton`; a window they converge is
+converged, else the best iterate of all is accepted as with ``"accept-best"``), or
 redoes the window once from its start by the explicit scheme (``"explicit"``: the first
 participant with the window's predicted data, the second with the first's output; both
 restored from their checkpoints, the acceleration's reused secants dropped) and logs it.
@@ -46,6 +50,7 @@ import numpy as np
 
 from .acceleration import ACCELERATIONS, AccelerationSettings
 from .convergence import ConvergenceMeasure, window_converged
+from .newton import JACOBIAN_STEP, SecantNewton, finite_difference_jacobian
 from .participant import Participant
 
 log = logging.getLogger(__name__)
@@ -53,7 +58,7 @@ log = logging.getLogger(__name__)
 SCHEMES: dict[str, Callable] = {}
 IMPLICIT_SCHEMES: set[str] = set()
 """Names in SCHEMES that iterate each window until the convergence measures hold."""
-ON_MAX_ITERATIONS = ("error", "accept", "accept-best", "explicit")
+ON_MAX_ITERATIONS = ("error", "accept", "accept-best", "explicit", "newton")
 EXTRAPOLATION_WEIGHTS = {0: (1.0,), 1: (2.0, -1.0), 2: (2.5, -2.0, 0.5)}
 """Weights of x^n, x^{n-1}, x^{n-2} in the prediction of a window's starting values."""
 
@@ -88,8 +93,10 @@ class CouplingSettings:
     scheme : one of SCHEMES; acceleration : one of ACCELERATIONS (ignored by ``explicit``);
     acceleration_settings : :class:`AccelerationSettings`; measures : list of
     :class:`ConvergenceMeasure`, at least one for a scheme in IMPLICIT_SCHEMES;
-    max_iterations : per window; on_max_iterations : ``error``, ``accept`` or ``explicit``
-    (module doc);
+    max_iterations : per window; on_max_iterations : one of ON_MAX_ITERATIONS (module doc);
+    newton_iterations : with ``newton``, the steps on the finite-difference Jacobian at most;
+    jacobian_step : its finite-difference step, a fraction of the rms of the accelerated
+    vector;
     accelerated_fields : fields in the fixed-point vector (default: the second's fields for
     serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction of each
     window's starting values from past windows; accept_residual : with ``accept``, the largest
@@ -106,6 +113,8 @@ class CouplingSettings:
     accelerated_fields: Optional[tuple] = None
     extrapolation_order: int = 0
     accept_residual: float = float("inf")
+    newton_iterations: int = 10
+    jacobian_step: float = JACOBIAN_STEP
 
     def __post_init__(self):
         if self.scheme not in SCHEMES:
@@ -119,6 +128,10 @@ class CouplingSettings:
                              f"got {self.on_max_iterations!r}")
         if not self.accept_residual > 0:
             raise ValueError(f"accept_residual must be > 0, got {self.accept_residual!r}")
+        if self.newton_iterations < 1:
+            raise ValueError(f"newton_iterations must be >= 1, got {self.newton_iterations!r}")
+        if not 0.0 < self.jacobian_step < 1.0:
+            raise ValueError(f"jacobian_step must be in (0, 1), got {self.jacobian_step!r}")
         if self.max_iterations < 1:
             raise ValueError(f"max_iterations must be >= 1, got {self.max_iterations!r}")
         if self.extrapolation_order not in EXTRAPOLATION_WEIGHTS:
@@ -134,8 +147,10 @@ class CouplingSettings:
 class WindowLog:
     """One window: index, start time (s), size (s), iterations, residuals per iteration
     ({field: norm}), relaxation per iteration (NaN for quasi-Newton steps), converged flag,
-    seconds spent in each participant's ``solve_window``, and ``explicit``: redone by the
-    explicit scheme after ``iterations - 1`` iterations did not converge."""
+    seconds spent in each participant's ``solve_window``, ``explicit``: redone by the
+    explicit scheme after ``iterations - 1`` iterations did not converge, and
+    ``jacobian_solves``: solves of both participants spent on a finite-difference Jacobian
+    (``on_max_iterations = "newton"``; the steps on it are counted in ``iterations``)."""
 
     index: int
     time: float
@@ -146,6 +161,7 @@ class WindowLog:
     converged: bool = False
     seconds: dict = field(default_factory=dict)
     explicit: bool = False
+    jacobian_solves: int = 0
 
 
 @dataclass
@@ -371,13 +387,13 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
     x = dict(data)  # current input of every field
     acceleration.start_window()
     packer = None
-    best = _BestIterate(settings.measures) if settings.on_max_iterations == "accept-best" \
-        else None
+    best = _BestIterate(settings.measures) \
+        if settings.on_max_iterations in ("accept-best", "newton") else None
 
-    def iteration(x: dict, it: int):
-        """Both solves from the window's start with input ``x``, logged as iteration ``it``:
-        (x_tilde, residuals)."""
-        if it > 1:
+    def solves(x: dict, it: int) -> dict:
+        """Both solves from the window's start with input ``x``: x_tilde (``it`` names the
+        iteration in an error)."""
+        if window.iterations > 0 or window.jacobian_solves > 0:
             first.restore_checkpoint(checkpoints[0])
             second.restore_checkpoint(checkpoints[1])
         out1 = solve1(t, dt, _pick(x, second.write_fields))
@@ -385,15 +401,20 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         x_tilde = {**x, **out1, **out2}
         _check_finite({m.field: x_tilde[m.field] for m in settings.measures},
                       "a participant returned", window, t, it)
+        return x_tilde
+
+    def iteration(x: dict, it: int):
+        """Both solves with input ``x``, logged as iteration ``it``: (x_tilde, residuals)."""
+        x_tilde = solves(x, it)
         residuals = {m.field: m.residual(x[m.field], x_tilde[m.field]) for m in settings.measures}
         window.residuals.append(residuals)
         window.iterations = it
+        if best is not None:
+            best.offer(it, x, residuals)
         return x_tilde, residuals
 
     for it in range(1, settings.max_iterations + 1):
         x_tilde, residuals = iteration(x, it)
-        if best is not None:
-            best.offer(it, x, residuals)
         if window_converged(settings.measures, residuals):
             window.converged = True
             if packer is not None:
@@ -406,6 +427,12 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         _check_finite(new, "the acceleration gave", window, t, it)
         window.relaxation.append(acceleration.last_relaxation)
         x = {**x_tilde, **new}
+    if not window.converged and settings.on_max_iterations == "newton":
+        x_tilde = _newton(settings, solves, iteration, best, packer or _Packer(names, x_tilde),
+                          window, t)
+        if window.converged:
+            acceleration.end_window()
+            return x_tilde
     if not window.converged:
         msg = (f"window {window.index} (t = {t:g} s) not converged after {window.iterations} "
                f"iterations; last residuals {window.residuals[-1]}")
@@ -415,7 +442,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
             x_tilde, residuals = iteration(best.input, window.iterations + 1)
             msg = (f"{msg}; the best, iteration {best.iteration}, repeated: residuals "
                    f"{residuals}")
-        if (settings.on_max_iterations in ("accept", "accept-best")
+        if (settings.on_max_iterations in ("accept", "accept-best", "newton")
                 and max(window.residuals[-1].values()) > settings.accept_residual):
             raise CouplingError(f"{msg}, above accept_residual = {settings.accept_residual:g}",
                                 window)
@@ -428,6 +455,47 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         log.warning("%s; accepted", msg)
         acceleration.stalled()
     acceleration.end_window()
+    return x_tilde
+
+
+def _newton(settings, solves, iteration, best, packer, window, t) -> dict:
+    """Newton steps from the window's best iterate on a finite-difference Jacobian of the
+    map (:mod:`coupling.newton`); sets ``window.converged`` when they converge it. Returns
+    the last x_tilde."""
+    x = dict(best.input)
+    x_tilde, residuals = iteration(x, window.iterations + 1)
+    if window_converged(settings.measures, residuals):
+        window.converged = True
+        return x_tilde
+
+    def evaluate(vector):
+        window.jacobian_solves += 1
+        return packer.pack(solves({**x, **packer.unpack(vector)}, window.iterations))
+
+    try:
+        jacobian = finite_difference_jacobian(evaluate, packer.pack(x), packer.pack(x_tilde),
+                                              settings.jacobian_step)
+    except (CouplingError, FloatingPointError) as err:
+        log.warning("window %d (t = %g s): no finite-difference Jacobian (%s)", window.index,
+                    t, err)
+        return x_tilde
+    steps = SecantNewton(jacobian)
+    for step in range(1, settings.newton_iterations + 1):
+        new = packer.unpack(steps.update(packer.pack(x), packer.pack(x_tilde)))
+        if not all(np.all(np.isfinite(v)) for v in new.values()):
+            break
+        x = {**x_tilde, **new}
+        try:
+            x_tilde, residuals = iteration(x, window.iterations + 1)
+        except CouplingError as err:  # a step into a non-finite answer: the best stays
+            log.warning("%s", err)
+            break
+        window.relaxation.append(float("nan"))
+        if window_converged(settings.measures, residuals):
+            window.converged = True
+            log.info("window %d (t = %g s) converged by %d Newton steps after %d solves for "
+                     "the Jacobian", window.index, t, step, window.jacobian_solves)
+            break
     return x_tilde
 
 

@@ -454,3 +454,92 @@ def test_accept_best_keeps_the_window_s_smallest_residual_iterate():
     assert kept.residuals[-1] == last.residuals[best - 1]
     _, s_ref, f_ref = stalled("accept", best)
     assert (s_state, f_state) == (s_ref, f_ref)
+
+
+def _stiff(on_max, max_iterations=4, newton_iterations=10, **pair):
+    """One window of a map whose Jacobian has norm 900 (the valve fill's, README 'Newton
+    steps on a finite-difference Jacobian') under IQN-ILS stopped after ``max_iterations``."""
+    s, f = _pair(n=12, gain=900.0, seed=2, **pair)
+    settings = _settings("implicit-serial", "iqn-ils")
+    settings.max_iterations = max_iterations
+    settings.on_max_iterations = on_max
+    settings.newton_iterations = newton_iterations
+    window = run(s, f, settings, dt=0.1, n_windows=1).windows[0]
+    return window, s, f
+
+
+@pytest.mark.parametrize("nonlinear,most_steps", [(False, 3), (True, 20)])
+def test_newton_on_a_finite_difference_jacobian_converges_a_stalled_window(nonlinear,
+                                                                          most_steps):
+    """on_max_iterations = "newton": a window that IQN-ILS leaves unconverged after 4
+    iterations of a 12-unknown map (it needs 13 on an affine map) is converged by Newton
+    steps on the map's finite-difference Jacobian at its best iterate: one solve pair per
+    unknown for the Jacobian, then the steps. Affine: the Jacobian is exact but for
+    round-off, at most 3 steps. With the sin term IQN-ILS diverges, so the best iterate is
+    the window's start, 96 from the fixed point; the Jacobian taken there, corrected by the
+    steps' secants, converges in 17 steps (measured). Either way the window ends at the
+    fixed point with both participants' states those of that fixed point."""
+    stalled, _, _ = _stiff("accept", nonlinear=nonlinear)
+    assert not stalled.converged
+    window, s, f = _stiff("newton", newton_iterations=most_steps, nonlinear=nonlinear)
+    assert window.converged and window.jacobian_solves == 12
+    assert 4 + 1 + 1 <= window.iterations <= 4 + 1 + most_steps
+    assert max(window.residuals[-1].values()) <= 1e-10
+    if not nonlinear:
+        d_star, p_star = _fixed_point(s, f)
+        assert s.state == pytest.approx(0.1 * np.mean(d_star), abs=1e-9)
+        assert f.state == pytest.approx(0.1 * np.mean(p_star), abs=1e-9)
+
+
+class Jumping(Affine):
+    """An :class:`Affine` fluid whose every output jumps by ``jump`` where its first input
+    exceeds ``at``."""
+
+    def __init__(self, *args, at=0.0, jump=1.0, **kw):
+        super().__init__(*args, **kw)
+        self.at, self.jump = at, jump
+
+    def solve_window(self, time, dt, data_in):
+        out = super().solve_window(time, dt, data_in)
+        jump = self.jump if data_in[self.read][0] > self.at else 0.0
+        return {k: v + jump for k, v in out.items()}
+
+
+def test_newton_that_cannot_converge_keeps_the_best_iterate_of_all():
+    """Where the map jumps between the fixed points of its two sides (each side's fixed
+    point lies on the other side: there is none) no Jacobian converges the window: it is
+    then accepted at the smallest-residual iterate of all its iterations (repeated last, as
+    "accept-best" does), not converged, after n solves for the Jacobian."""
+    s, f0 = _pair(n=6, gain=0.4, seed=3)
+    d_star, _ = _fixed_point(s, f0)
+    n = s.A.shape[0]
+    shift = s.A @ np.linalg.solve(np.eye(n) - f0.A @ s.A, np.ones(n))  # d** - d* for jump 1
+    jump = -1.0 if shift[0] > 0 else 1.0
+    f = Jumping("fluid", "p", "d", f0.A, f0.b, at=float(d_star[0] + 0.5 * jump * shift[0]),
+                jump=jump)
+    settings = _settings("implicit-serial", "iqn-ils")
+    settings.max_iterations, settings.on_max_iterations = 20, "newton"
+    settings.newton_iterations = 5
+    window = run(s, f, settings, dt=0.1, n_windows=1).windows[0]
+    assert not window.converged and window.jacobian_solves == 6
+    scores = [max(r[m.field] / m.limit for m in settings.measures) for r in window.residuals]
+    assert scores[-1] == min(scores[:-1]) > 1.0
+    assert window.iterations == len(window.residuals) <= 20 + 1 + 5 + 1
+
+
+@pytest.mark.parametrize("kw,match", [(dict(newton_iterations=0), "newton_iterations"),
+                                      (dict(jacobian_step=0.0), "jacobian_step"),
+                                      (dict(jacobian_step=1.0), "jacobian_step")])
+def test_bad_newton_settings_raise(kw, match):
+    with pytest.raises(ValueError, match=match):
+        CouplingSettings(**kw)
+
+
+def test_finite_difference_jacobian_is_exact_for_an_affine_map_and_refuses_non_finite():
+    from coupling.newton import finite_difference_jacobian
+    rng = np.random.default_rng(4)
+    A, b, x = rng.normal(size=(5, 5)), rng.normal(size=5), rng.normal(size=5)
+    J = finite_difference_jacobian(lambda v: A @ v + b, x, A @ x + b)
+    assert np.allclose(J, A, atol=1e-9)
+    with pytest.raises(FloatingPointError, match="column 0"):
+        finite_difference_jacobian(lambda v: np.full(5, np.nan), x, A @ x + b)

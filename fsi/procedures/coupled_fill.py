@@ -199,6 +199,7 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
         run.record("windows", dict(
             time=t, window_size=w.size, window_error=error,
             coupling_iterations=w.iterations, converged=w.converged, explicit=w.explicit,
+            jacobian_solves=w.jacobian_solves,
             residual_pressure=float(last.get(PRESSURE, np.nan)),
             residual_points=float(last.get(POINTS, np.nan)),
             seconds_structure=float(w.seconds.get(membrane.name, 0.0)),
@@ -249,6 +250,8 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     attrs["windows_with_inertia"] = len(parts.membrane.dynamic_windows)
     attrs["windows_explicit"] = sum(r["explicit"] for r in run.groups.get("windows", []))
     attrs["windows_unconverged"] = sum(not r["converged"] for r in run.groups.get("windows", []))
+    attrs["windows_newton"] = sum(r.get("jacobian_solves", 0) > 0
+                                  for r in run.groups.get("windows", []))
     return run.result(**attrs)
 
 
@@ -307,8 +310,9 @@ def report(result) -> None:
     if w is None:
         return
     print(f"  windows not converged: {a['windows_unconverged']} (of which redone by the "
-          f"explicit scheme: {a['windows_explicit']}); with the membrane's inertia: "
-          f"{a['windows_with_inertia']}")
+          f"explicit scheme: {a['windows_explicit']}); given Newton steps on a "
+          f"finite-difference Jacobian: {a.get('windows_newton', 0)}; with the membrane's "
+          f"inertia: {a['windows_with_inertia']}")
     print("  t(s)     Q(m^3/s)    delivered   membrane dV  fluid dV     level(Pa)  iters")
     v0, f0 = a["start_volume"], result.groups["frames"]["fluid_liquid_volume"][0]
     n = len(w["time"])
