@@ -71,6 +71,8 @@ Jacobian (README, 'Newton steps on a finite-difference Jacobian')."""
 NEWTON_BOTH_KEYS = dict(NEWTON, fluid=dict(NEWTON["fluid"], centre_cells="window",
                                            pressure_fit="tapered"))
 """Those, with the cell classes held over a window and the tapered fit."""
+BOTH_KEYS = dict(VALVE_FILL_COUPLING, fluid=NEWTON_BOTH_KEYS["fluid"])
+"""The valve fill's coupling with the two [fluid] keys and no Newton steps."""
 END_FILL = 0.9
 CASES = {
     "1e-3, 1 ms": dict(flow=1e-3, window=1e-3, end_time=0.1),
@@ -124,6 +126,8 @@ CASES = {
         flow=1e-2, window=1e-3, end_time=0.3, changes=NEWTON),
     "1e-2, 1 ms, valve-fill's coupling, Newton, both keys, to 0.3 s": dict(
         flow=1e-2, window=1e-3, end_time=0.3, changes=NEWTON_BOTH_KEYS),
+    "1e-2, 1 ms, valve-fill's coupling, both keys, to 0.3 s": dict(
+        flow=1e-2, window=1e-3, end_time=0.3, changes=BOTH_KEYS),
     "3e-3, 1 ms, mixing 0.1, no reuse": dict(
         flow=3e-3, window=1e-3, end_time=0.05, changes=MIXING_NO_REUSE),
     "from 0.5, clamped, 1e-2, 1 ms, mixing 0.1": dict(
@@ -155,7 +159,8 @@ LONG_CASES = ("from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reu
               "1e-2, 1 ms, mixing 0.1, no reuse, window cells, 24^3",
               "1e-2, 1 ms, valve-fill's coupling, to 0.3 s",
               "1e-2, 1 ms, valve-fill's coupling, Newton, to 0.3 s",
-              "1e-2, 1 ms, valve-fill's coupling, Newton, both keys, to 0.3 s")
+              "1e-2, 1 ms, valve-fill's coupling, Newton, both keys, to 0.3 s",
+              "1e-2, 1 ms, valve-fill's coupling, both keys, to 0.3 s")
 """Cases run only when named in ``--cases``: the whole fill from half full and the valve
 fill's drain (each with the cells chosen anew each iteration and at each window's start),
 each a quarter of an hour or more, the opening from 0.1 on the 24^3 liquid grid, and the
