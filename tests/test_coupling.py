@@ -543,3 +543,39 @@ def test_finite_difference_jacobian_is_exact_for_an_affine_map_and_refuses_non_f
     assert np.allclose(J, A, atol=1e-9)
     with pytest.raises(FloatingPointError, match="column 0"):
         finite_difference_jacobian(lambda v: np.full(5, np.nan), x, A @ x + b)
+
+
+class Poisoned(Affine):
+    """An :class:`Affine` fluid whose ``call``-th answer is non-finite, and only that one."""
+
+    def __init__(self, *args, call=1, **kw):
+        super().__init__(*args, **kw)
+        self.poisoned = call
+
+    def solve_window(self, time, dt, data_in):
+        out = super().solve_window(time, dt, data_in)
+        if self.calls == self.poisoned:
+            out = {k: np.full_like(v, np.nan) for k, v in out.items()}
+        return out
+
+
+def test_a_newton_step_into_a_non_finite_answer_keeps_the_best_iterate_and_its_state():
+    """With the sine term (steps from 96 to 13 to 7.8 ...) the second Newton step's solve
+    (call 4 + 1 + 12 + 2 = 19 of the fluid) returns NaN, right after the first step made the
+    best iterate so far: the steps stop, and the window is accepted at that best iterate with
+    both participants' states those of a run stopped there (its solves repeated last: the
+    participants hold the poisoned solve's state, not the best's)."""
+    s, f0 = _pair(n=12, gain=900.0, seed=2, nonlinear=True)
+    f = Poisoned("fluid", "p", "d", f0.A, f0.b, nonlinear=True, call=19)
+    settings = _settings("implicit-serial", "iqn-ils")
+    settings.max_iterations, settings.on_max_iterations = 4, "newton"
+    window = run(s, f, settings, dt=0.1, n_windows=1).windows[0]
+    assert not window.converged and window.jacobian_solves == 12
+    assert window.iterations == 4 + 1 + 1 + 1  # the best (the first step) repeated last
+    assert window.residuals[-1] == window.residuals[-2]
+    scores = [max(r[m.field] / m.limit for m in settings.measures) for r in window.residuals]
+    assert scores[-2] < min(scores[:-2])
+    s_ref, f_ref = _pair(n=12, gain=900.0, seed=2, nonlinear=True)
+    settings.newton_iterations = 1  # the same window, stopped after its first step
+    run(s_ref, f_ref, settings, dt=0.1, n_windows=1)
+    assert (s.state, f.state) == (s_ref.state, f_ref.state)
