@@ -26,7 +26,7 @@ on the Jacobian). Then, around the best
 iterate of the run as run up to it, H is evaluated at x + eps d for random directions d
 (|d| = |x|) and eps = 1e-4 ... 1e-8: |H_liquid(x + eps d) - H_liquid(x)| / (eps |x|) stays
 constant where the liquid's map is smooth and grows as 1/eps across a jump (the membrane's
-positions, the same ratio in m, as a control). Prints one JSON object (about 2 min for the
+positions, the same ratio in m, as a control). Prints one JSON object (about 3 min for the
 default windows of the bundled valve fill).
 """
 from __future__ import annotations

@@ -260,15 +260,16 @@ def test_constant_relaxation_diverges_on_the_non_contractive_map():
 
 
 class Blowing(Affine):
-    """An :class:`Affine` fluid whose output turns non-finite from its ``after``-th call."""
+    """An :class:`Affine` fluid whose output turns non-finite from its ``after``-th call (at
+    that call only, with ``once``)."""
 
-    def __init__(self, *args, after=3, **kw):
+    def __init__(self, *args, after=3, once=False, **kw):
         super().__init__(*args, **kw)
-        self.after = after
+        self.after, self.once = after, once
 
     def solve_window(self, time, dt, data_in):
         out = super().solve_window(time, dt, data_in)
-        if self.calls >= self.after:
+        if self.calls == self.after or (self.calls > self.after and not self.once):
             out = {k: np.full_like(v, np.nan) for k, v in out.items()}
         return out
 
@@ -545,20 +546,6 @@ def test_finite_difference_jacobian_is_exact_for_an_affine_map_and_refuses_non_f
         finite_difference_jacobian(lambda v: np.full(5, np.nan), x, A @ x + b)
 
 
-class Poisoned(Affine):
-    """An :class:`Affine` fluid whose ``call``-th answer is non-finite, and only that one."""
-
-    def __init__(self, *args, call=1, **kw):
-        super().__init__(*args, **kw)
-        self.poisoned = call
-
-    def solve_window(self, time, dt, data_in):
-        out = super().solve_window(time, dt, data_in)
-        if self.calls == self.poisoned:
-            out = {k: np.full_like(v, np.nan) for k, v in out.items()}
-        return out
-
-
 def test_a_newton_step_into_a_non_finite_answer_keeps_the_best_iterate_and_its_state():
     """With the sine term (steps from 96 to 13 to 7.8 ...) the second Newton step's solve
     (call 4 + 1 + 12 + 2 = 19 of the fluid) returns NaN, right after the first step made the
@@ -566,7 +553,7 @@ def test_a_newton_step_into_a_non_finite_answer_keeps_the_best_iterate_and_its_s
     both participants' states those of a run stopped there (its solves repeated last: the
     participants hold the poisoned solve's state, not the best's)."""
     s, f0 = _pair(n=12, gain=900.0, seed=2, nonlinear=True)
-    f = Poisoned("fluid", "p", "d", f0.A, f0.b, nonlinear=True, call=19)
+    f = Blowing("fluid", "p", "d", f0.A, f0.b, nonlinear=True, after=19, once=True)
     settings = _settings("implicit-serial", "iqn-ils")
     settings.max_iterations, settings.on_max_iterations = 4, "newton"
     window = run(s, f, settings, dt=0.1, n_windows=1).windows[0]
