@@ -68,11 +68,11 @@ NEWTON = dict(VALVE_FILL_COUPLING, coupling=dict(VALVE_FILL_COUPLING["coupling"]
                                                 on_max_iterations="newton"))
 """The valve fill's coupling with a stalled window given Newton steps on a finite-difference
 Jacobian (README, 'Newton steps on a finite-difference Jacobian')."""
-NEWTON_BOTH_KEYS = dict(NEWTON, fluid=dict(NEWTON["fluid"], centre_cells="window",
-                                           pressure_fit="tapered"))
-"""Those, with the cell classes held over a window and the tapered fit."""
-BOTH_KEYS = dict(VALVE_FILL_COUPLING, fluid=NEWTON_BOTH_KEYS["fluid"])
-"""The valve fill's coupling with the two [fluid] keys and no Newton steps."""
+BOTH_KEYS = dict(VALVE_FILL_COUPLING, fluid=dict(VALVE_FILL_COUPLING["fluid"],
+                                                 centre_cells="window", pressure_fit="tapered"))
+"""The valve fill's coupling with the cell classes held over a window and the tapered fit."""
+NEWTON_BOTH_KEYS = dict(BOTH_KEYS, coupling=NEWTON["coupling"])
+"""Those, with Newton steps for a stalled window."""
 END_FILL = 0.9
 CASES = {
     "1e-3, 1 ms": dict(flow=1e-3, window=1e-3, end_time=0.1),
