@@ -19,10 +19,13 @@ probed, then window K is run:
   :mod:`fluid.sampling`);
 * with both;
 * as run, then, as ``coupling.on_max_iterations = "newton"`` does, Newton steps from its best
-  iterate on a finite-difference Jacobian of H (:mod:`coupling.newton`).
+  iterate on a finite-difference Jacobian of H (:mod:`coupling.newton`);
+* as run, then, as ``coupling.on_max_iterations = "split"`` does, again from its start as
+  two windows of half its size, a half that stalls halved again (three times at most).
 
-Each: iterations, whether it converged, its smallest pressure residual (and the solves spent
-on the Jacobian). Then, around the best
+Each: iterations, whether it converged, its smallest pressure residual and the one it ended
+with (the largest of its parts' for a split window), the solves spent on the Jacobian and
+the windows it was done in. Then, around the best
 iterate of the run as run up to it, H is evaluated at x + eps d for random directions d
 (|d| = |x|) and eps = 1e-4 ... 1e-8: |H_liquid(x + eps d) - H_liquid(x)| / (eps |x|) stays
 constant where the liquid's map is smooth and grows as 1/eps across a jump (the membrane's
@@ -53,7 +56,8 @@ BEFORE = {"fluid": {"pressure_fit": "block", "centre_cells": "iteration"}}
 VARIANTS = {"as run": {}, "centre cells held": {"centre_cells": "window"},
             "tapered fit": {"pressure_fit": "tapered"},
             "both": {"centre_cells": "window", "pressure_fit": "tapered"},
-            "Newton steps": {"on_max_iterations": "newton"}}
+            "Newton steps": {"on_max_iterations": "newton"},
+            "split in halves": {"on_max_iterations": "split"}}
 """Variant -> the [fluid] keys (or ``on_max_iterations``) it changes for the window probed."""
 EPSILONS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 DIRECTIONS = 6
@@ -92,8 +96,8 @@ def _window(snapshot: bytes, keys: dict, record_inputs: bool = False):
     residuals = [r[PRESSURE] for r in window.residuals]
     summary = dict(iterations=window.iterations, converged=bool(window.converged),
                    smallest_pressure_residual=float(min(residuals)),
-                   last_pressure_residual=float(residuals[-1]),
-                   jacobian_solves=window.jacobian_solves)
+                   last_pressure_residual=float(window.last_residuals[PRESSURE]),
+                   jacobian_solves=window.jacobian_solves, parts=window.parts)
     return summary, parts, loop, inputs, residuals, start
 
 

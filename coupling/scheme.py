@@ -24,11 +24,16 @@ window's start with that iteration's input, one iteration more), goes on from th
 iterate by Newton steps on a finite-difference Jacobian of the fixed-point map
 (``"newton"``: one solve of both participants per entry of the accelerated vector, then at
 most ``newton_iterations`` steps, :mod:`coupling.newton`; a window they converge is
-converged, else the best iterate of all is accepted as with ``"accept-best"``), or
-redoes the window once from its start by the explicit scheme (``"explicit"``: the first
-participant with the window's predicted data, the second with the first's output; both
-restored from their checkpoints, the acceleration's reused secants dropped) and logs it.
-Either way the window's log says ``converged = False``; ``explicit`` marks the redone one.
+converged, else the best iterate of all is accepted as with ``"accept-best"``), redoes
+it from its start as two windows of half its size, each from the fields the one before it
+converged to (``"split"``: a half that does not converge is halved again, at most
+``split_depth`` times, and at the last level its best iterate is accepted as with
+``"accept-best"``; the window is converged if every part is, and its log counts every try's
+iterations), or redoes the window once from its start by the explicit scheme
+(``"explicit"``: the first participant with the window's predicted data, the second with the
+first's output; both restored from their checkpoints, the acceleration's reused secants
+dropped) and logs it. Except for a split window whose parts all converged, the window's log
+says ``converged = False``; ``explicit`` marks the redone one.
 Where "explicit" is meant: a fixed point that does not exist near the window's start, as when
 a quasi-static membrane's equilibrium path jumps (a fold snapping), which no smaller window
 mends (README, 'Slow fills').
@@ -43,7 +48,7 @@ from __future__ import annotations
 
 import logging
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Optional
 
 import numpy as np
@@ -58,7 +63,7 @@ log = logging.getLogger(__name__)
 SCHEMES: dict[str, Callable] = {}
 IMPLICIT_SCHEMES: set[str] = set()
 """Names in SCHEMES that iterate each window until the convergence measures hold."""
-ON_MAX_ITERATIONS = ("error", "accept", "accept-best", "explicit", "newton")
+ON_MAX_ITERATIONS = ("error", "accept", "accept-best", "explicit", "newton", "split")
 EXTRAPOLATION_WEIGHTS = {0: (1.0,), 1: (2.0, -1.0), 2: (2.5, -2.0, 0.5)}
 """Weights of x^n, x^{n-1}, x^{n-2} in the prediction of a window's starting values."""
 
@@ -96,7 +101,8 @@ class CouplingSettings:
     max_iterations : per window; on_max_iterations : one of ON_MAX_ITERATIONS (module doc);
     newton_iterations : with ``newton``, the steps on the finite-difference Jacobian at most;
     jacobian_step : its finite-difference step, a fraction of the rms of the accelerated
-    vector;
+    vector; split_depth : with ``split``, how many times a window may be halved (its
+    smallest parts 2**-split_depth of it);
     accelerated_fields : fields in the fixed-point vector (default: the second's fields for
     serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction of each
     window's starting values from past windows; accept_residual : with ``accept``, the largest
@@ -115,6 +121,7 @@ class CouplingSettings:
     accept_residual: float = float("inf")
     newton_iterations: int = 10
     jacobian_step: float = JACOBIAN_STEP
+    split_depth: int = 3
 
     def __post_init__(self):
         if self.scheme not in SCHEMES:
@@ -130,6 +137,8 @@ class CouplingSettings:
             raise ValueError(f"accept_residual must be > 0, got {self.accept_residual!r}")
         if self.newton_iterations < 1:
             raise ValueError(f"newton_iterations must be >= 1, got {self.newton_iterations!r}")
+        if not 1 <= self.split_depth <= 20:
+            raise ValueError(f"split_depth must be in 1..20, got {self.split_depth!r}")
         if not 0.0 < self.jacobian_step < 1.0:
             raise ValueError(f"jacobian_step must be in (0, 1), got {self.jacobian_step!r}")
         if self.max_iterations < 1:
@@ -150,7 +159,10 @@ class WindowLog:
     seconds spent in each participant's ``solve_window``, ``explicit``: redone by the
     explicit scheme after ``iterations - 1`` iterations did not converge, and
     ``jacobian_solves``: solves of both participants spent on a finite-difference Jacobian
-    (``on_max_iterations = "newton"``; the steps on it are counted in ``iterations``)."""
+    (``on_max_iterations = "newton"``; the steps on it are counted in ``iterations``);
+    ``parts``: the windows it was done in (more than 1: split, ``on_max_iterations =
+    "split"``; its iterations, residuals and relaxations are then its first try's followed
+    by every part's) and ``part_residuals``, each part's last residuals."""
 
     index: int
     time: float
@@ -162,6 +174,17 @@ class WindowLog:
     seconds: dict = field(default_factory=dict)
     explicit: bool = False
     jacobian_solves: int = 0
+    parts: int = 1
+    part_residuals: list = field(default_factory=list)
+
+    @property
+    def last_residuals(self) -> dict:
+        """{field: norm} the window ended with: its last iteration's, or for a split window
+        the largest over its parts' last ones."""
+        if self.part_residuals:
+            return {name: max(r[name] for r in self.part_residuals)
+                    for name in self.part_residuals[0]}
+        return self.residuals[-1] if self.residuals else {}
 
 
 @dataclass
@@ -274,8 +297,18 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
     while True:
         window = WindowLog(index=k, time=t, size=dt)
         try:
-            return window, iterate(first, second, settings, acceleration, dict(predicted), t, dt,
-                                   window), dt
+            out = iterate(first, second, settings, acceleration, dict(predicted), t, dt, window)
+            if not window.converged and settings.on_max_iterations == "split":
+                log.warning("window %d (t = %g s) not converged after %d iterations: redone "
+                            "in halves", k, t, window.iterations)
+                first.restore_checkpoint(checkpoints[0])
+                second.restore_checkpoint(checkpoints[1])
+                acceleration.forget()
+                window.parts = 0
+                out = _split(first, second, settings, acceleration, iterate, predicted, t, dt,
+                             window, settings.split_depth)
+                window.converged = not any(_over(settings, r) for r in window.part_residuals)
+            return window, out, dt
         except CouplingError:
             smaller = retry(window) if retry is not None else None
             if smaller is None:
@@ -290,6 +323,52 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
             acceleration.forget()
             _check_window(smaller)
             dt = smaller
+
+
+def _over(settings, residuals: dict) -> bool:
+    """Whether ``residuals`` ({field: norm}) miss the window's convergence measures."""
+    return not window_converged(settings.measures, residuals)
+
+
+def _split(first, second, settings, acceleration, iterate, data, t, dt, window, depth):
+    """The window [t, t + dt] (both participants at its start) done as two windows of dt/2,
+    the first from ``data``, the second from the first's converged fields; a half that does
+    not converge is redone from its start in halves while ``depth`` allows, and at the last
+    level its best iterate is accepted (as ``"accept-best"`` does). Every part's iterations,
+    residuals, relaxations and seconds are added to ``window``. Returns the fields at
+    t + dt."""
+    half = 0.5 * dt
+    last_level = replace(settings, on_max_iterations="accept-best")
+    for i in range(2):
+        t_part = t + i * half
+        part = WindowLog(index=window.index, time=t_part, size=half)
+        checkpoints = (first.store_checkpoint(), second.store_checkpoint())
+        out = iterate(first, second, settings if depth > 1 else last_level, acceleration,
+                      dict(data), t_part, half, part)
+        _add(window, part)
+        if part.converged or depth == 1:
+            window.parts += 1
+            window.part_residuals.append(part.residuals[-1])
+        else:
+            first.restore_checkpoint(checkpoints[0])
+            second.restore_checkpoint(checkpoints[1])
+            acceleration.forget()
+            out = _split(first, second, settings, acceleration, iterate, data, t_part, half,
+                         window, depth - 1)
+        data = out
+    return data
+
+
+def _add(window: WindowLog, part: WindowLog) -> None:
+    """``part``'s iterations, residuals, relaxations, seconds and solves added to
+    ``window``'s."""
+    window.iterations += part.iterations
+    window.residuals.extend(part.residuals)
+    window.relaxation.extend(part.relaxation)
+    window.explicit |= part.explicit
+    window.jacobian_solves += part.jacobian_solves
+    for name, seconds in part.seconds.items():
+        window.seconds[name] = window.seconds.get(name, 0.0) + seconds
 
 
 def _check_window(dt: float) -> None:
@@ -436,6 +515,8 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         if window.converged:
             acceleration.end_window()
             return x_tilde
+    if not window.converged and settings.on_max_iterations == "split":
+        return x_tilde  # redone in halves by the caller (_window)
     if not window.converged:
         msg = (f"window {window.index} (t = {t:g} s) not converged after {window.iterations} "
                f"iterations; last residuals {window.residuals[-1]}")

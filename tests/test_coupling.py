@@ -566,3 +566,67 @@ def test_a_newton_step_into_a_non_finite_answer_keeps_the_best_iterate_and_its_s
     settings.newton_iterations = 1  # the same window, stopped after its first step
     run(s_ref, f_ref, settings, dt=0.1, n_windows=1)
     assert (s.state, f.state) == (s_ref.state, f_ref.state)
+
+
+def _drifting(scale=50.0):
+    """The pair of :func:`_pair` drifting fast in time (its fixed point moves by about 30
+    per second): a window starts farther from its fixed point the longer it is."""
+    s, f = _pair()
+    rng = np.random.default_rng(1)
+    return (Drifting(s.name, "d", "p", s.A, s.b, drift=scale * rng.normal(size=6)),
+            Drifting(f.name, "p", "d", f.A, f.b, drift=scale * rng.normal(size=6)))
+
+
+def _drift_settings(on_max, split_depth=3):
+    settings = _settings("implicit-serial", "constant", tol=1e-6)
+    settings.measures = [ConvergenceMeasure("d", "absolute", 1e-6),
+                         ConvergenceMeasure("p", "absolute", 1e-6)]
+    settings.max_iterations, settings.on_max_iterations = 24, on_max
+    settings.split_depth = split_depth
+    return settings
+
+
+def test_split_redoes_a_stalled_window_in_halves_as_windows_of_that_size_would_run():
+    """on_max_iterations = "split": on the drifting pair with constant relaxation and 24
+    iterations allowed, windows of 0.4, 0.2 and 0.1 s stop short of the tolerance (their
+    start lies too far from their fixed point: measured) and windows of 0.05 s converge
+    (but the first, from zeros). Two windows of 0.4 s, each halved three times, then run
+    as sixteen windows of 0.05 s with "accept-best" (to round-off in the parts' start
+    times): the same fields at 0.4 and 0.8 s, the same integrated participant states; each window counts every try's
+    iterations (24 for each of the 1 + 2 + 4 tries that stalled) and says it was done in 8
+    parts, converged if every part converged."""
+    s, f = _drifting()
+    ends = []
+    ref = run(s, f, _drift_settings("accept-best"), dt=0.05, n_windows=16,
+              on_window=lambda w, data: ends.append({k: v.copy() for k, v in data.items()}))
+    assert [w.converged for w in ref.windows] == [False] + [True] * 15
+    s2, f2 = _drifting()
+    split_ends = []
+    log = run(s2, f2, _drift_settings("split"), dt=0.4, n_windows=2,
+              on_window=lambda w, data: split_ends.append({k: v.copy() for k, v in data.items()}))
+    for w, parts in zip(log.windows, (ref.windows[:8], ref.windows[8:])):
+        assert w.parts == 8 and w.size == 0.4
+        assert w.converged == all(p.converged for p in parts)
+        assert w.iterations == len(w.residuals) == 24 * 7 + sum(p.iterations for p in parts)
+        assert w.last_residuals == pytest.approx(  # the parts' times differ in round-off
+            {k: max(p.residuals[-1][k] for p in parts) for k in "dp"}, rel=1e-6)
+    assert [w.converged for w in log.windows] == [False, True]
+    for got, want in zip(split_ends, (ends[7], ends[15])):
+        for k in "dp":
+            assert np.allclose(got[k], want[k], rtol=1e-12, atol=1e-12)
+    assert s2.state == pytest.approx(s.state, rel=1e-12)
+    assert f2.state == pytest.approx(f.state, rel=1e-12)
+
+
+def test_split_depth_bounds_the_halving_and_keeps_the_smallest_parts_best_iterates():
+    """With split_depth = 2 the 0.4 s window's parts are 0.1 s windows, which stall: each
+    keeps its best iterate (as "accept-best"), the window is not converged, and its last
+    residuals are the largest of its four parts'."""
+    s, f = _drifting()
+    log = run(s, f, _drift_settings("split", split_depth=2), dt=0.4, n_windows=2)
+    w = log.windows[1]
+    assert w.parts == 4 and not w.converged
+    assert max(w.last_residuals.values()) > 1e-6
+    assert len(w.part_residuals) == 4
+    with pytest.raises(ValueError, match="split_depth"):
+        CouplingSettings(split_depth=0)

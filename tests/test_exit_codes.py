@@ -35,6 +35,27 @@ def test_a_run_with_an_unconverged_window_exits_3_and_keeps_its_result(tmp_path,
     assert (out / "plots" / "coupling.png").is_file()
 
 
+def test_a_window_redone_in_halves_is_recorded_with_its_parts(tmp_path, capsys):
+    """on_max_iterations = 'split' with split_depth = 1: each stalled window of the bundled
+    fill is redone as two of half its size (each accepting its best iterate): the windows
+    group says 2 parts per window and the iterations of both tries, the attribute counts the
+    windows split, the run's times stay the windows' ends and the exit status says
+    unconverged."""
+    scene = tmp_path / "fill.toml"
+    scene.write_text("[scene]\nprocedure = 'coupled-fill'\n[dynamics]\nend_time = 0.004\n"
+                     "frame_interval = 1\n[coupling]\nmax_iterations = 2\n"
+                     "on_max_iterations = 'split'\nsplit_depth = 1\n")
+    out = tmp_path / "run"
+    assert main(["run", str(scene), "--out", str(out)]) == EXIT_NOT_CONVERGED
+    assert "redone in halves: 2" in capsys.readouterr().out
+    res = read_result(out)
+    w = res["windows"]
+    assert list(w["window_parts"]) == [2, 2] and res["attrs"]["windows_split"] == 2
+    assert np.allclose(w["time"], [0.002, 0.004], rtol=0, atol=1e-15)
+    assert (w["coupling_iterations"] >= 2 + 2 * 2).all()
+    assert not w["converged"].any()
+
+
 def test_a_solver_error_mid_run_is_one_line_and_keeps_the_work(tmp_path, capsys, monkeypatch):
     """A Courant failure after the up-front check passed (as a 2000-node-per-side grid does
     after 24 s) stops the run: exit 1, one line, the steps done written, no traceback."""

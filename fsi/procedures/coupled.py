@@ -265,7 +265,14 @@ COUPLING = Table({
                              "go on from its best iterate by Newton steps on a "
                              "finite-difference Jacobian (one solve pair per node; if they do "
                              "not converge, the best iterate is accepted and logged; README, "
-                             "'Newton steps on a finite-difference Jacobian')"),
+                             "'Newton steps on a finite-difference Jacobian'), or redo it from "
+                             "its start as two windows of half its size, a half that does not "
+                             "converge halved again, split_depth times at most, the smallest's "
+                             "best iterate accepted (README, 'Stalled windows redone in "
+                             "halves')"),
+    "split_depth": Key(int, 3, lambda v: 1 <= v <= 20, "1..20",
+                       "on_max_iterations = split: how many times a window may be halved "
+                       "(its smallest parts 2^-split_depth of it)"),
     "newton_iterations": Key(int, 10, lambda v: 1 <= v <= 1000, "1..1000",
                              "on_max_iterations = newton: steps on the finite-difference "
                              "Jacobian at most"),
@@ -299,6 +306,7 @@ def coupling_settings(c: dict) -> CouplingSettings:
         max_iterations=c["max_iterations"], on_max_iterations=c["on_max_iterations"],
         accept_residual=c["accept_residual"],
         newton_iterations=c["newton_iterations"], jacobian_step=c["jacobian_step"],
+        split_depth=c["split_depth"],
         extrapolation_order=c["extrapolation_order"])
 
 

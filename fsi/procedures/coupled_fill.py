@@ -192,14 +192,14 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
 
     def record(w, data):
         t = (w.index + 1) * w.size if controller is None else w.time + w.size
-        last = w.residuals[-1] if w.residuals else {}
+        last = w.last_residuals
         error = controller.errors[-1] if controller is not None and controller.errors \
             else np.nan
         volume = liquid_volume(setup.model, membrane.state.node_position)
         run.record("windows", dict(
             time=t, window_size=w.size, window_error=error,
             coupling_iterations=w.iterations, converged=w.converged, explicit=w.explicit,
-            jacobian_solves=w.jacobian_solves,
+            jacobian_solves=w.jacobian_solves, window_parts=w.parts,
             residual_pressure=float(last.get(PRESSURE, np.nan)),
             residual_points=float(last.get(POINTS, np.nan)),
             seconds_structure=float(w.seconds.get(membrane.name, 0.0)),
@@ -252,6 +252,8 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     attrs["windows_unconverged"] = sum(not r["converged"] for r in run.groups.get("windows", []))
     attrs["windows_newton"] = sum(r.get("jacobian_solves", 0) > 0
                                   for r in run.groups.get("windows", []))
+    attrs["windows_split"] = sum(r.get("window_parts", 1) > 1
+                                 for r in run.groups.get("windows", []))
     return run.result(**attrs)
 
 
@@ -311,8 +313,8 @@ def report(result) -> None:
         return
     print(f"  windows not converged: {a['windows_unconverged']} (of which redone by the "
           f"explicit scheme: {a['windows_explicit']}); given Newton steps on a "
-          f"finite-difference Jacobian: {a.get('windows_newton', 0)}; with the membrane's "
-          f"inertia: {a['windows_with_inertia']}")
+          f"finite-difference Jacobian: {a.get('windows_newton', 0)}; redone in "
+          f"halves: {a.get('windows_split', 0)}; with the membrane's inertia: {a['windows_with_inertia']}")
     print("  t(s)     Q(m^3/s)    delivered   membrane dV  fluid dV     level(Pa)  iters")
     v0, f0 = a["start_volume"], result.groups["frames"]["fluid_liquid_volume"][0]
     n = len(w["time"])

@@ -256,7 +256,7 @@ class DiaphragmWindows(SurfaceWindows):
 
         def on_window(w, data):
             t = (w.index + 1) * window
-            last = w.residuals[-1] if w.residuals else {}
+            last = w.last_residuals
             self.sample(run, t, coupling_iterations=w.iterations,
                         converged=w.converged,
                         residual_pressure=float(last.get(PRESSURE, np.nan)))
