@@ -8,9 +8,10 @@ the liquid's under the membrane's positions. A window whose residual stops falli
 the tolerance (a cycle, or a floor) may sit at a jump of H: quasi-Newton steps assume H is
 smooth. For each window index K the scene is run to the start of window K with the liquid's
 map as it was before the two keys below (``fluid.pressure_fit = "block"``,
-``fluid.centre_cells = "iteration"``: :data:`BEFORE`; ``--as-bundled`` runs the scene's
-own), so that the windows that stalled in the bundled valve fill's runs are the windows
-probed, then window K is run:
+``fluid.centre_cells = "iteration"``) and a stalled window's best iterate kept
+(``coupling.on_max_iterations = "accept-best"``; all three :data:`BEFORE`; ``--as-bundled``
+runs the scene's own), so that the windows that stalled in the valve fill's runs with the
+best iterate kept are the windows probed, then window K is run:
 
 * as run up to it;
 * with ``fluid.centre_cells = "window"`` (the cells that carry the liquid's velocity held at
@@ -51,8 +52,10 @@ from fsi.lifecycle import Run
 from fsi.procedures.coupled_fill import fresh_start
 from fsi.scene import load_scene
 
-BEFORE = {"fluid": {"pressure_fit": "block", "centre_cells": "iteration"}}
-"""The liquid's map of the runs whose stalled windows are probed (the keys' defaults)."""
+BEFORE = {"fluid": {"pressure_fit": "block", "centre_cells": "iteration"},
+          "coupling": {"on_max_iterations": "accept-best"}}
+"""The liquid's map and the stalled window's handling of the runs whose stalled windows are
+probed (the keys' defaults, the best iterate kept)."""
 VARIANTS = {"as run": {}, "centre cells held": {"centre_cells": "window"},
             "tapered fit": {"pressure_fit": "tapered"},
             "both": {"centre_cells": "window", "pressure_fit": "tapered"},
@@ -139,7 +142,8 @@ def main(argv=None) -> int:
     parser.add_argument("--scene", default="valve-fill")
     parser.add_argument("--windows", nargs="+", type=int, default=[20, 84, 154])
     parser.add_argument("--as-bundled", action="store_true",
-                        help="run up to the windows with the scene's own [fluid] keys")
+                        help="run up to the windows with the scene's own [fluid] and "
+                        "[coupling] keys")
     args = parser.parse_args(argv)
     logging.getLogger().setLevel(logging.ERROR)
     scene = load_scene(args.scene)
