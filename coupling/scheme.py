@@ -174,8 +174,11 @@ class WindowLog:
     seconds: dict = field(default_factory=dict)
     explicit: bool = False
     jacobian_solves: int = 0
-    parts: int = 1
     part_residuals: list = field(default_factory=list)
+
+    @property
+    def parts(self) -> int:
+        return len(self.part_residuals) or 1
 
     @property
     def last_residuals(self) -> dict:
@@ -304,10 +307,10 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
                 first.restore_checkpoint(checkpoints[0])
                 second.restore_checkpoint(checkpoints[1])
                 acceleration.forget()
-                window.parts = 0
                 out = _split(first, second, settings, acceleration, iterate, predicted, t, dt,
                              window, settings.split_depth)
-                window.converged = not any(_over(settings, r) for r in window.part_residuals)
+                window.converged = all(window_converged(settings.measures, r)
+                                       for r in window.part_residuals)
             return window, out, dt
         except CouplingError:
             smaller = retry(window) if retry is not None else None
@@ -323,11 +326,6 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
             acceleration.forget()
             _check_window(smaller)
             dt = smaller
-
-
-def _over(settings, residuals: dict) -> bool:
-    """Whether ``residuals`` ({field: norm}) miss the window's convergence measures."""
-    return not window_converged(settings.measures, residuals)
 
 
 def _split(first, second, settings, acceleration, iterate, data, t, dt, window, depth):
@@ -347,7 +345,6 @@ def _split(first, second, settings, acceleration, iterate, data, t, dt, window, 
                       dict(data), t_part, half, part)
         _add(window, part)
         if part.converged or depth == 1:
-            window.parts += 1
             window.part_residuals.append(part.residuals[-1])
         else:
             first.restore_checkpoint(checkpoints[0])

@@ -313,8 +313,9 @@ def report(result) -> None:
         return
     print(f"  windows not converged: {a['windows_unconverged']} (of which redone by the "
           f"explicit scheme: {a['windows_explicit']}); given Newton steps on a "
-          f"finite-difference Jacobian: {a.get('windows_newton', 0)}; redone in "
-          f"halves: {a.get('windows_split', 0)}; with the membrane's inertia: {a['windows_with_inertia']}")
+          f"finite-difference Jacobian: {a.get('windows_newton', 0)}; redone in halves: "
+          f"{a.get('windows_split', 0)}; with the membrane's inertia: "
+          f"{a['windows_with_inertia']}")
     print("  t(s)     Q(m^3/s)    delivered   membrane dV  fluid dV     level(Pa)  iters")
     v0, f0 = a["start_volume"], result.groups["frames"]["fluid_liquid_volume"][0]
     n = len(w["time"])
