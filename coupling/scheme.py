@@ -396,10 +396,8 @@ def _redo_explicit(first, second, data, t, dt, window):
     iteration of ``window`` (left unconverged, marked ``explicit``)."""
     redo = WindowLog(index=window.index, time=t, size=dt)
     out = _explicit(first, second, None, None, dict(data), t, dt, redo)
-    window.iterations += 1
+    _add(window, redo)
     window.explicit = True
-    for name, seconds in redo.seconds.items():
-        window.seconds[name] = window.seconds.get(name, 0.0) + seconds
     return out
 
 
