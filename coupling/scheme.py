@@ -29,7 +29,11 @@ it from its start as two windows of half its size, each from the fields the one 
 converged to (``"split"``: a half that does not converge is halved again, at most
 ``split_depth`` times, and at the last level its best iterate is accepted as with
 ``"accept-best"``; the window is converged if every part is, and its log counts every try's
-iterations), or redoes the window once from its start by the explicit scheme
+iterations; with ``stall_iterations`` > 0 a try to be split stops before ``max_iterations``
+once its best residual, the largest over its measure's limit, has not fallen to
+``stall_reduction`` of itself within ``stall_iterations`` iterations: a split window's
+parts start from the window's start whatever its first try did, so only the iterations
+spent change), or redoes the window once from its start by the explicit scheme
 (``"explicit"``: the first participant with the window's predicted data, the second with the
 first's output; both restored from their checkpoints, the acceleration's reused secants
 dropped) and logs it. Except for a split window whose parts all converged, the window's log
@@ -102,7 +106,9 @@ class CouplingSettings:
     newton_iterations : with ``newton``, the steps on the finite-difference Jacobian at most;
     jacobian_step : its finite-difference step, a fraction of the rms of the accelerated
     vector; split_depth : with ``split``, how many times a window may be halved (its
-    smallest parts 2**-split_depth of it);
+    smallest parts 2**-split_depth of it); stall_iterations, stall_reduction : with
+    ``split``, a try that will be split stops once its best residual has not fallen to
+    stall_reduction of itself in stall_iterations iterations (0: it runs max_iterations);
     accelerated_fields : fields in the fixed-point vector (default: the second's fields for
     serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction of each
     window's starting values from past windows; accept_residual : with ``accept``, the largest
@@ -122,6 +128,8 @@ class CouplingSettings:
     newton_iterations: int = 10
     jacobian_step: float = JACOBIAN_STEP
     split_depth: int = 3
+    stall_iterations: int = 0
+    stall_reduction: float = 0.5
 
     def __post_init__(self):
         if self.scheme not in SCHEMES:
@@ -139,6 +147,15 @@ class CouplingSettings:
             raise ValueError(f"newton_iterations must be >= 1, got {self.newton_iterations!r}")
         if not 1 <= self.split_depth <= 20:
             raise ValueError(f"split_depth must be in 1..20, got {self.split_depth!r}")
+        if not 0 <= self.stall_iterations <= 10_000:
+            raise ValueError(f"stall_iterations must be in 0..10000, got "
+                             f"{self.stall_iterations!r}")
+        if self.stall_iterations and self.on_max_iterations != "split":
+            raise ValueError("stall_iterations > 0 needs on_max_iterations = 'split' (a try "
+                             "stopped early is split), got on_max_iterations = "
+                             f"{self.on_max_iterations!r}")
+        if not 0.0 < self.stall_reduction < 1.0:
+            raise ValueError(f"stall_reduction must be in (0, 1), got {self.stall_reduction!r}")
         if not 0.0 < self.jacobian_step < 1.0:
             raise ValueError(f"jacobian_step must be in (0, 1), got {self.jacobian_step!r}")
         if self.max_iterations < 1:
@@ -336,7 +353,7 @@ def _split(first, second, settings, acceleration, iterate, data, t, dt, window, 
     residuals, relaxations and seconds are added to ``window``. Returns the fields at
     t + dt."""
     half = 0.5 * dt
-    last_level = replace(settings, on_max_iterations="accept-best")
+    last_level = replace(settings, on_max_iterations="accept-best", stall_iterations=0)
     for i in range(2):
         t_part = t + i * half
         part = WindowLog(index=window.index, time=t_part, size=half)
@@ -431,6 +448,26 @@ def _check_finite(fields: dict, source: str, window, t: float, iteration: int) -
                             "window diverged)", window)
 
 
+def _score(measures, residuals: dict) -> float:
+    """The largest residual over its measure's limit (-): below 1 every measure holds."""
+    return max(residuals[m.field] / m.limit for m in measures)
+
+
+class _Stall:
+    """Whether a try has stalled: its best score (:func:`_score`) has not fallen to
+    ``reduction`` of itself within ``iterations`` iterations."""
+
+    def __init__(self, measures, iterations: int, reduction: float):
+        self.measures, self.iterations, self.reduction = measures, iterations, reduction
+        self.best, self.since = np.inf, 0
+
+    def __call__(self, iteration: int, residuals: dict) -> bool:
+        score = _score(self.measures, residuals)
+        if score < self.reduction * self.best:
+            self.best, self.since = score, iteration
+        return iteration - self.since >= self.iterations
+
+
 class _BestIterate:
     """The iteration of a window whose largest residual over its measure's limit is the
     smallest so far (``iteration``) and a copy of its input fields (``input``)."""
@@ -442,7 +479,7 @@ class _BestIterate:
         self.input: dict = {}
 
     def offer(self, iteration: int, x: dict, residuals: dict) -> None:
-        score = max(residuals[m.field] / m.limit for m in self.measures)
+        score = _score(self.measures, residuals)
         if score < self.score:
             self.score, self.iteration = score, iteration
             self.input = {name: np.array(value, copy=True) for name, value in x.items()}
@@ -464,6 +501,8 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
     best = _BestIterate(settings.measures) \
         if settings.on_max_iterations in ("accept-best", "newton") else None
 
+    stalled = _Stall(settings.measures, settings.stall_iterations, settings.stall_reduction) \
+        if settings.stall_iterations else None
     solved = [0]  # the logged iteration whose solves the participants hold (None: another's)
 
     def solves(x: dict, it: int) -> dict:
@@ -498,6 +537,8 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
                 acceleration.converged(packer.pack(x), packer.pack(x_tilde))
             window.relaxation.append(float("nan"))
             break
+        if stalled is not None and stalled(it, residuals):
+            break  # split by the caller (_window)
         if packer is None:
             packer = _Packer(names, x_tilde)
         new = packer.unpack(acceleration.update(packer.pack(x), packer.pack(x_tilde)))

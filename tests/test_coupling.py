@@ -618,6 +618,38 @@ def test_split_redoes_a_stalled_window_in_halves_as_windows_of_that_size_would_r
     assert f2.state == pytest.approx(f.state, rel=1e-12)
 
 
+@pytest.mark.parametrize("reduction,stalled_try", [(0.6, 24), (0.4, 2)])
+def test_a_stalled_try_stopped_early_is_split_with_the_same_fields(reduction, stalled_try):
+    """stall_iterations = 1: a try to be split stops once its best score (largest residual
+    over the limit) has not fallen to stall_reduction of itself in one iteration. The
+    drifting pair's tries contract by 0.485-0.525 per iteration (measured): with 0.6 none stops
+    early, every try runs its 24 iterations as without the key; with 0.4 each of a window's
+    seven tries to be split stops at its second iteration. Either way the window's parts
+    start from the window's start, so the fields at its end and the participants' states
+    are those of the run without the key, and only the stalled tries' iterations change."""
+    s, f = _drifting()
+    ref = run(s, f, _drift_settings("split"), dt=0.4, n_windows=2)
+    s2, f2 = _drifting()
+    settings = _drift_settings("split")
+    settings.stall_iterations, settings.stall_reduction = 1, reduction
+    log = run(s2, f2, settings, dt=0.4, n_windows=2)
+    for w, w_ref in zip(log.windows, ref.windows):
+        assert w.parts == w_ref.parts == 8 and w.converged == w_ref.converged
+        assert w.part_residuals == w_ref.part_residuals
+        assert w.iterations == w_ref.iterations - 7 * (24 - stalled_try)
+    assert s2.state == s.state and f2.state == f.state
+
+
+@pytest.mark.parametrize("kw,match", [
+    (dict(stall_iterations=5, on_max_iterations="accept-best"), "stall_iterations"),
+    (dict(stall_iterations=-1, on_max_iterations="split"), "stall_iterations"),
+    (dict(stall_iterations=5, on_max_iterations="split", stall_reduction=1.0),
+     "stall_reduction")])
+def test_bad_stall_settings_raise(kw, match):
+    with pytest.raises(ValueError, match=match):
+        CouplingSettings(**kw)
+
+
 def test_split_depth_bounds_the_halving_and_keeps_the_smallest_parts_best_iterates():
     """With split_depth = 2 the 0.4 s window's parts are 0.1 s windows, which stall: each
     keeps its best iterate (as "accept-best"), the window is not converged, and its last

@@ -54,6 +54,13 @@ def _check_motion(motion: dict) -> None:
                          f"'table' needs at least two rows [t, ax, ay, az]")
 
 
+def _check_coupling(c: dict) -> None:
+    if c["stall_iterations"] and c["on_max_iterations"] != "split":
+        raise SceneError(f"scene key 'coupling.stall_iterations' = {c['stall_iterations']!r}: "
+                         f"a try stopped early is split; with coupling.on_max_iterations = "
+                         f"{c['on_max_iterations']!r} allowed: 0")
+
+
 START_GRID = Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
                  "0, or an even N0 >= 4 not above membrane.grid_size",
                  "0: the static start relaxed on membrane.grid_size itself; N0: relaxed on the "
@@ -273,6 +280,15 @@ COUPLING = Table({
     "split_depth": Key(int, 3, lambda v: 1 <= v <= 20, "1..20",
                        "on_max_iterations = split: how many times a window may be halved "
                        "(its smallest parts 2^-split_depth of it)"),
+    "stall_iterations": Key(int, 0, lambda v: 0 <= v <= 10_000, "0..10000",
+                            "on_max_iterations = split: a try that is not the last level's "
+                            "stops and is split once its best residual (the largest over its "
+                            "tolerance) has not fallen to stall_reduction of itself in this "
+                            "many iterations (0: it runs max_iterations; README, 'A stalled "
+                            "try stopped early')"),
+    "stall_reduction": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
+                           "on_max_iterations = split, with stall_iterations > 0: the fraction "
+                           "of itself the best residual must fall to"),
     "newton_iterations": Key(int, 10, lambda v: 1 <= v <= 1000, "1..1000",
                              "on_max_iterations = newton: steps on the finite-difference "
                              "Jacobian at most"),
@@ -287,7 +303,7 @@ COUPLING = Table({
                            "(README, 'The valve drain')"),
     "extrapolation_order": Key(int, 0, *one_of(sorted(EXTRAPOLATION_WEIGHTS)),
                                "prediction of a window's start from past windows"),
-})
+}, _check_coupling)
 """[coupling]: every knob of :class:`coupling.CouplingSettings`."""
 
 COUPLED_TABLES = {"dynamics": DYNAMICS, "motion": MOTION, "port": PORT, "fluid": FLUID,
@@ -306,7 +322,8 @@ def coupling_settings(c: dict) -> CouplingSettings:
         max_iterations=c["max_iterations"], on_max_iterations=c["on_max_iterations"],
         accept_residual=c["accept_residual"],
         newton_iterations=c["newton_iterations"], jacobian_step=c["jacobian_step"],
-        split_depth=c["split_depth"],
+        split_depth=c["split_depth"], stall_iterations=c["stall_iterations"],
+        stall_reduction=c["stall_reduction"],
         extrapolation_order=c["extrapolation_order"])
 
 
