@@ -6,11 +6,11 @@ Knows neither fluid nor structure: participants are seen through
 from .acceleration import ACCELERATIONS, AccelerationSettings, register_acceleration
 from .convergence import ConvergenceMeasure
 from .participant import Participant
-from .scheme import (EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES, CouplingError,
-                     CouplingLog, CouplingSettings, Loop, WindowLog, advance, register_scheme,
-                     run, start)
+from .scheme import (EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES, SPLIT_UNCONVERGED,
+                     CouplingError, CouplingLog, CouplingSettings, Loop, WindowLog, advance,
+                     register_scheme, run, start)
 
 __all__ = ["ACCELERATIONS", "AccelerationSettings", "register_acceleration",
            "ConvergenceMeasure", "Participant", "EXTRAPOLATION_WEIGHTS", "ON_MAX_ITERATIONS",
-           "SCHEMES", "CouplingError", "CouplingLog", "CouplingSettings", "WindowLog",
+           "SCHEMES", "SPLIT_UNCONVERGED", "CouplingError", "CouplingLog", "CouplingSettings", "WindowLog",
            "register_scheme", "run", "start", "advance", "Loop"]

@@ -28,12 +28,13 @@ converged, else the best iterate of all is accepted as with ``"accept-best"``), 
 it from its start as two windows of half its size, each from the fields the one before it
 converged to (``"split"``: a half that does not converge is halved again, at most
 ``split_depth`` times, and at the last level its best iterate is accepted as with
-``"accept-best"``; the window is converged if every part is, and its log counts every try's
-iterations; with ``stall_iterations`` > 0 a try to be split stops before ``max_iterations``
-once its best residual, the largest over its measure's limit, has not fallen to
-``stall_reduction`` of itself within ``stall_iterations`` iterations: a split window's
-parts start from the window's start whatever its first try did, so only the iterations
-spent change), or redoes the window once from its start by the explicit scheme
+``"accept-best"``, or with ``split_unconverged = "window"`` the whole window is redone
+from its start and its best iterate kept; the window is converged if every part is, and its
+log counts every try's iterations; with ``stall_iterations`` > 0 a try to be split stops
+before ``max_iterations`` once its best residual, the largest over its measure's limit, has
+not fallen to ``stall_reduction`` of itself within ``stall_iterations`` iterations: a split
+window's parts start from the window's start whatever its first try did, so only the
+iterations spent change), or redoes the window once from its start by the explicit scheme
 (``"explicit"``: the first participant with the window's predicted data, the second with the
 first's output; both restored from their checkpoints, the acceleration's reused secants
 dropped) and logs it. Except for a split window whose parts all converged, the window's log
@@ -68,6 +69,9 @@ SCHEMES: dict[str, Callable] = {}
 IMPLICIT_SCHEMES: set[str] = set()
 """Names in SCHEMES that iterate each window until the convergence measures hold."""
 ON_MAX_ITERATIONS = ("error", "accept", "accept-best", "explicit", "newton", "split")
+SPLIT_UNCONVERGED = ("parts", "window")
+"""What a split window some of whose smallest parts did not converge keeps: those parts'
+best iterates, or the whole window redone from its start with its best iterate kept."""
 EXTRAPOLATION_WEIGHTS = {0: (1.0,), 1: (2.0, -1.0), 2: (2.5, -2.0, 0.5)}
 """Weights of x^n, x^{n-1}, x^{n-2} in the prediction of a window's starting values."""
 
@@ -109,6 +113,7 @@ class CouplingSettings:
     smallest parts 2**-split_depth of it); stall_iterations, stall_reduction : with
     ``split``, a try that will be split stops once its best residual has not fallen to
     stall_reduction of itself in stall_iterations iterations (0: it runs max_iterations);
+    split_unconverged : with ``split``, one of SPLIT_UNCONVERGED;
     accelerated_fields : fields in the fixed-point vector (default: the second's fields for
     serial, all fields for parallel); extrapolation_order : 0, 1 or 2, prediction of each
     window's starting values from past windows; accept_residual : with ``accept``, the largest
@@ -130,6 +135,7 @@ class CouplingSettings:
     split_depth: int = 3
     stall_iterations: int = 0
     stall_reduction: float = 0.5
+    split_unconverged: str = "parts"
 
     def __post_init__(self):
         if self.scheme not in SCHEMES:
@@ -154,6 +160,9 @@ class CouplingSettings:
             raise ValueError("stall_iterations > 0 needs on_max_iterations = 'split' (a try "
                              "stopped early is split), got on_max_iterations = "
                              f"{self.on_max_iterations!r}")
+        if self.split_unconverged not in SPLIT_UNCONVERGED:
+            raise ValueError(f"split_unconverged must be one of {SPLIT_UNCONVERGED}, got "
+                             f"{self.split_unconverged!r}")
         if not 0.0 < self.stall_reduction < 1.0:
             raise ValueError(f"stall_reduction must be in (0, 1), got {self.stall_reduction!r}")
         if not 0.0 < self.jacobian_step < 1.0:
@@ -179,7 +188,9 @@ class WindowLog:
     (``on_max_iterations = "newton"``; the steps on it are counted in ``iterations``);
     ``parts``: the windows it was done in (more than 1: split, ``on_max_iterations =
     "split"``; its iterations, residuals and relaxations are then its first try's followed
-    by every part's) and ``part_residuals``, each part's last residuals."""
+    by every part's), ``part_residuals``, each part's last residuals, and ``split_undone``:
+    split, some of its smallest parts unconverged, and redone whole with its best iterate
+    kept (``split_unconverged = "window"``; ``parts`` is then 1)."""
 
     index: int
     time: float
@@ -192,6 +203,7 @@ class WindowLog:
     explicit: bool = False
     jacobian_solves: int = 0
     part_residuals: list = field(default_factory=list)
+    split_undone: bool = False
 
     @property
     def parts(self) -> int:
@@ -328,6 +340,9 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
                              window, settings.split_depth)
                 window.converged = all(window_converged(settings.measures, r)
                                        for r in window.part_residuals)
+                if not window.converged and settings.split_unconverged == "window":
+                    out = _whole_best(first, second, settings, acceleration, iterate,
+                                      predicted, checkpoints, window)
             return window, out, dt
         except CouplingError:
             smaller = retry(window) if retry is not None else None
@@ -371,6 +386,27 @@ def _split(first, second, settings, acceleration, iterate, data, t, dt, window, 
                          window, depth - 1)
         data = out
     return data
+
+
+def _whole_best(first, second, settings, acceleration, iterate, data, checkpoints, window):
+    """A split window some of whose smallest parts did not converge, redone from its start
+    (``checkpoints``) as one window whose best iterate is kept (``"accept-best"``, every
+    iteration); its parts are dropped from ``window`` but for their iterations. Returns
+    the fields at the window's end."""
+    log.warning("window %d (t = %g s): parts not converged; redone whole, its best iterate "
+                "kept", window.index, window.time)
+    first.restore_checkpoint(checkpoints[0])
+    second.restore_checkpoint(checkpoints[1])
+    acceleration.forget()
+    whole = WindowLog(index=window.index, time=window.time, size=window.size)
+    out = iterate(first, second, replace(settings, on_max_iterations="accept-best",
+                                         stall_iterations=0),
+                  acceleration, dict(data), window.time, window.size, whole)
+    _add(window, whole)
+    window.part_residuals = []
+    window.split_undone = True
+    window.converged = whole.converged
+    return out
 
 
 def _add(window: WindowLog, part: WindowLog) -> None:

@@ -640,6 +640,38 @@ def test_a_stalled_try_stopped_early_is_split_with_the_same_fields(reduction, st
     assert s2.state == s.state and f2.state == f.state
 
 
+def test_a_split_whose_smallest_parts_stall_can_be_redone_whole_keeping_its_best_iterate():
+    """split_unconverged = "window": with split_depth = 2 the 0.4 s windows' 0.1 s parts
+    stall; each window is then redone from its start as one window whose best iterate is
+    kept, and ends where a run with "accept-best" at 0.4 s does (fields and both
+    participants' states), done in 1 part, marked split_undone, unconverged, its log
+    counting the first try, the split's tries and the whole window's (24: its best iterate is
+    its last, not repeated)."""
+    s, f = _drifting()
+    ends = []
+    ref = run(s, f, _drift_settings("accept-best"), dt=0.4, n_windows=2,
+              on_window=lambda w, data: ends.append({k: v.copy() for k, v in data.items()}))
+    s2, f2 = _drifting()
+    settings = _drift_settings("split", split_depth=2)
+    settings.split_unconverged = "window"
+    got = []
+    log = run(s2, f2, settings, dt=0.4, n_windows=2,
+              on_window=lambda w, data: got.append({k: v.copy() for k, v in data.items()}))
+    s3, f3 = _drifting()
+    parts_kept = run(s3, f3, _drift_settings("split", split_depth=2), dt=0.4, n_windows=2)
+    for w, w_ref, w_parts in zip(log.windows, ref.windows, parts_kept.windows):
+        assert w.split_undone and w.parts == 1 and not w.converged
+        assert w_parts.parts == 4 and not w_parts.split_undone
+        assert w.iterations == w_parts.iterations + w_ref.iterations == w_parts.iterations + 24
+        assert w.last_residuals == w_ref.residuals[-1]
+    for a, b in zip(got, ends):
+        for k in "dp":
+            assert np.array_equal(a[k], b[k])
+    assert (s2.state, f2.state) == (s.state, f.state)
+    with pytest.raises(ValueError, match="split_unconverged"):
+        CouplingSettings(split_unconverged="best")
+
+
 @pytest.mark.parametrize("kw,match", [
     (dict(stall_iterations=5, on_max_iterations="accept-best"), "stall_iterations"),
     (dict(stall_iterations=-1, on_max_iterations="split"), "stall_iterations"),

@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from coupling import (ACCELERATIONS, EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES,
-                      AccelerationSettings, ConvergenceMeasure, CouplingSettings)
+                      SPLIT_UNCONVERGED, AccelerationSettings, ConvergenceMeasure,
+                      CouplingSettings)
 from coupling.newton import JACOBIAN_STEP
 from fluid.model import FACE_MEMORIES
 from fluid.sampling import CELL_WEIGHTS, FIT_KERNELS
@@ -289,6 +290,12 @@ COUPLING = Table({
     "stall_reduction": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
                            "on_max_iterations = split, with stall_iterations > 0: the fraction "
                            "of itself the best residual must fall to"),
+    "split_unconverged": Key(str, "parts", *one_of(SPLIT_UNCONVERGED),
+                             "on_max_iterations = split: what a split window keeps when some "
+                             "of its smallest parts do not converge: parts (those parts' best "
+                             "iterates) or window (the whole window redone from its start, its "
+                             "best iterate kept as accept-best keeps it; README, 'A split that "
+                             "does not converge')"),
     "newton_iterations": Key(int, 10, lambda v: 1 <= v <= 1000, "1..1000",
                              "on_max_iterations = newton: steps on the finite-difference "
                              "Jacobian at most"),
@@ -323,7 +330,7 @@ def coupling_settings(c: dict) -> CouplingSettings:
         accept_residual=c["accept_residual"],
         newton_iterations=c["newton_iterations"], jacobian_step=c["jacobian_step"],
         split_depth=c["split_depth"], stall_iterations=c["stall_iterations"],
-        stall_reduction=c["stall_reduction"],
+        stall_reduction=c["stall_reduction"], split_unconverged=c["split_unconverged"],
         extrapolation_order=c["extrapolation_order"])
 
 

@@ -200,6 +200,7 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
             time=t, window_size=w.size, window_error=error,
             coupling_iterations=w.iterations, converged=w.converged, explicit=w.explicit,
             jacobian_solves=w.jacobian_solves, window_parts=w.parts,
+            split_undone=w.split_undone,
             residual_pressure=float(last.get(PRESSURE, np.nan)),
             residual_points=float(last.get(POINTS, np.nan)),
             seconds_structure=float(w.seconds.get(membrane.name, 0.0)),
@@ -254,6 +255,8 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
                                   for r in run.groups.get("windows", []))
     attrs["windows_split"] = sum(r.get("window_parts", 1) > 1
                                  for r in run.groups.get("windows", []))
+    attrs["windows_split_undone"] = sum(r.get("split_undone", False)
+                                        for r in run.groups.get("windows", []))
     return run.result(**attrs)
 
 
@@ -314,7 +317,8 @@ def report(result) -> None:
     print(f"  windows not converged: {a['windows_unconverged']} (of which redone by the "
           f"explicit scheme: {a['windows_explicit']}); given Newton steps on a "
           f"finite-difference Jacobian: {a.get('windows_newton', 0)}; redone in halves: "
-          f"{a.get('windows_split', 0)}; with the membrane's inertia: "
+          f"{a.get('windows_split', 0)} (redone whole: {a.get('windows_split_undone', 0)}); "
+          f"with the membrane's inertia: "
           f"{a['windows_with_inertia']}")
     print("  t(s)     Q(m^3/s)    delivered   membrane dV  fluid dV     level(Pa)  iters")
     v0, f0 = a["start_volume"], result.groups["frames"]["fluid_liquid_volume"][0]
