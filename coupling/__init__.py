@@ -12,5 +12,5 @@ from .scheme import (EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES, SPLIT_UN
 
 __all__ = ["ACCELERATIONS", "AccelerationSettings", "register_acceleration",
            "ConvergenceMeasure", "Participant", "EXTRAPOLATION_WEIGHTS", "ON_MAX_ITERATIONS",
-           "SCHEMES", "SPLIT_UNCONVERGED", "CouplingError", "CouplingLog", "CouplingSettings", "WindowLog",
-           "register_scheme", "run", "start", "advance", "Loop"]
+           "SCHEMES", "SPLIT_UNCONVERGED", "CouplingError", "CouplingLog", "CouplingSettings",
+           "WindowLog", "register_scheme", "run", "start", "advance", "Loop"]

@@ -46,6 +46,8 @@ def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
      "stall_iterations = 30", "coupling.stall_iterations", "allowed: 0"),
     ("[scene]\nprocedure = 'coupled-fill'\n[coupling]\non_max_iterations = 'split'\n"
      "stall_reduction = 1.0", "coupling.stall_reduction", "0 < value < 1"),
+    ("[scene]\nprocedure = 'coupled-fill'\n[coupling]\non_max_iterations = 'accept'\n"
+     "split_unconverged = 'window'", "coupling.split_unconverged", "allowed: 'parts'"),
     ("[dynamics]\nstart_fill = 1.0", "dynamics.start_fill", "0 < value < 1"),
     ("[fluid]\ncells = 4", "fluid.cells", "8..128"),
     ("[scene]\nprocedure = 'coupled-fill'\n[structure]\nmodel = 'shell'", "structure.model",

@@ -56,10 +56,19 @@ def _check_motion(motion: dict) -> None:
 
 
 def _check_coupling(c: dict) -> None:
-    if c["stall_iterations"] and c["on_max_iterations"] != "split":
+    """The keys of a split window, refused away from their default unless
+    ``on_max_iterations = "split"``."""
+    if c["on_max_iterations"] == "split":
+        return
+    if c["stall_iterations"]:
         raise SceneError(f"scene key 'coupling.stall_iterations' = {c['stall_iterations']!r}: "
                          f"a try stopped early is split; with coupling.on_max_iterations = "
                          f"{c['on_max_iterations']!r} allowed: 0")
+    if c["split_unconverged"] != "parts":
+        raise SceneError(f"scene key 'coupling.split_unconverged' = "
+                         f"{c['split_unconverged']!r}: what a split window keeps; with "
+                         f"coupling.on_max_iterations = {c['on_max_iterations']!r} allowed: "
+                         f"'parts'")
 
 
 START_GRID = Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
