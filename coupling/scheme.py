@@ -333,9 +333,7 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
             if not window.converged and settings.on_max_iterations == "split":
                 log.warning("window %d (t = %g s) not converged after %d iterations: redone "
                             "in halves", k, t, window.iterations)
-                first.restore_checkpoint(checkpoints[0])
-                second.restore_checkpoint(checkpoints[1])
-                acceleration.forget()
+                _restart(first, second, checkpoints, acceleration)
                 out = _split(first, second, settings, acceleration, iterate, predicted, t, dt,
                              window, settings.split_depth)
                 window.converged = all(window_converged(settings.measures, r)
@@ -353,11 +351,17 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
                 raise
             log.warning("window %d (t = %g s) not converged at %g s: redone at %g s", k, t, dt,
                         smaller)
-            first.restore_checkpoint(checkpoints[0])
-            second.restore_checkpoint(checkpoints[1])
-            acceleration.forget()
+            _restart(first, second, checkpoints, acceleration)
             _check_window(smaller)
             dt = smaller
+
+
+def _restart(first, second, checkpoints, acceleration) -> None:
+    """Both participants back to ``checkpoints`` and the acceleration's past dropped: a
+    window begun again from its start."""
+    first.restore_checkpoint(checkpoints[0])
+    second.restore_checkpoint(checkpoints[1])
+    acceleration.forget()
 
 
 def _split(first, second, settings, acceleration, iterate, data, t, dt, window, depth):
@@ -379,9 +383,7 @@ def _split(first, second, settings, acceleration, iterate, data, t, dt, window, 
         if part.converged or depth == 1:
             window.part_residuals.append(part.residuals[-1])
         else:
-            first.restore_checkpoint(checkpoints[0])
-            second.restore_checkpoint(checkpoints[1])
-            acceleration.forget()
+            _restart(first, second, checkpoints, acceleration)
             out = _split(first, second, settings, acceleration, iterate, data, t_part, half,
                          window, depth - 1)
         data = out
@@ -395,9 +397,7 @@ def _whole_best(first, second, settings, acceleration, iterate, data, checkpoint
     the fields at the window's end."""
     log.warning("window %d (t = %g s): parts not converged; redone whole, its best iterate "
                 "kept", window.index, window.time)
-    first.restore_checkpoint(checkpoints[0])
-    second.restore_checkpoint(checkpoints[1])
-    acceleration.forget()
+    _restart(first, second, checkpoints, acceleration)
     whole = WindowLog(index=window.index, time=window.time, size=window.size)
     out = iterate(first, second, replace(settings, on_max_iterations="accept-best",
                                          stall_iterations=0),
@@ -604,9 +604,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
                                 window)
         if settings.on_max_iterations == "explicit":
             log.warning("%s; redone explicitly", msg)
-            first.restore_checkpoint(checkpoints[0])
-            second.restore_checkpoint(checkpoints[1])
-            acceleration.forget()
+            _restart(first, second, checkpoints, acceleration)
             return _redo_explicit(first, second, data, t, dt, window)
         log.warning("%s; accepted", msg)
         acceleration.stalled()
