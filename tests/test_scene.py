@@ -115,14 +115,21 @@ def test_thesis_fill_and_drain_span_tank_fraction_0_1_to_0_9(name):
     assert end_fill == pytest.approx(0.9 if flow > 0 else 0.1, abs=1e-6)
 
 
+SPLIT_UNCONVERGED_BY_SCENE = {"valve-fill": "parts", "valve-drain": "window"}
+"""What each valve scene keeps of a split whose smallest parts stall (README, 'A split that
+does not converge')."""
+
+
 @pytest.mark.parametrize("name, start, end", [("valve-fill", 0.1, 0.9),
                                                ("valve-drain", 0.9, 0.1)])
 def test_valve_fill_and_drain_span_0_1_to_0_9_with_mixing_in_their_coupling(name, start, end):
     """The valve fill and drain (README, 'With mixing: the valve fill to completion'): they
     start at one end of 0.1..0.9, their windows end at or past the other, within one window,
     their coupling carries mixing, their pressure is fitted from each window's starting
-    cells ('The pressure cells of a window') and the liquid gets each window's mean velocity
-    ('The velocity the liquid sees')."""
+    cells ('The pressure cells of a window'), the liquid gets each window's mean velocity
+    ('The velocity the liquid sees'), and a stalled window is split three times at most, a
+    try stopped after 30 iterations without halving its best residual ('Stalled windows
+    redone in halves', 'A stalled try stopped early', 'A split that does not converge')."""
     from fsi.procedures.coupled import coupling_settings
 
     setup = build(load_scene(name))
@@ -138,6 +145,9 @@ def test_valve_fill_and_drain_span_0_1_to_0_9_with_mixing_in_their_coupling(name
     assert settings.acceleration_settings.reuse == 0
     assert setup.scene["fluid"]["pressure_cells"] == "window"
     assert setup.scene["coupling"]["interface_velocity"] == "window-mean"
+    assert (settings.on_max_iterations, settings.split_depth, settings.stall_iterations) == \
+        ("split", 3, 30)
+    assert settings.split_unconverged == SPLIT_UNCONVERGED_BY_SCENE[name]
 
 
 def test_accept_residual_reaches_the_coupling_and_is_checked():
