@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from coupling.convergence import StallRule, residual_score
 from coupling.scheme import SCHEMES
 from fsi.build import build
 from fsi.procedures import PROCEDURES
@@ -41,14 +42,10 @@ OUTPUT = Path(__file__).resolve().parent / "output"
 
 
 def stop_iteration(scores, stall: int, reduction: float):
-    """The iteration (1-based) at which the rule stops a try of ``scores``, or None."""
-    best, since = np.inf, 0
-    for i, s in enumerate(scores, 1):
-        if s < reduction * best:
-            best, since = s, i
-        elif i - since >= stall:
-            return i
-    return None
+    """The iteration (1-based) at which the scheme's rule stops a try of ``scores``, or
+    None."""
+    rule = StallRule(stall, reduction)
+    return next((i for i, s in enumerate(scores, 1) if rule(i, s)), None)
 
 
 def traced_run(scene):
@@ -63,7 +60,7 @@ def traced_run(scene):
         finally:
             tries.append(dict(t=t, dt=dt, converged=bool(window.converged),
                               mode=settings.on_max_iterations,
-                              scores=[max(r[m.field] / m.limit for m in settings.measures)
+                              scores=[residual_score(settings.measures, r)
                                       for r in window.residuals]))
 
     SCHEMES[name] = tracing

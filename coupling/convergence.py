@@ -54,3 +54,24 @@ def window_converged(measures, residuals: dict[str, float]) -> bool:
     if any(h and m.sufficient for h, m in zip(held, measures)):
         return True
     return all(held)
+
+
+def residual_score(measures, residuals: dict[str, float]) -> float:
+    """The largest residual over its measure's limit (-): at most 1 when every measure
+    holds."""
+    return max(residuals[m.field] / m.limit for m in measures)
+
+
+class StallRule:
+    """Whether a try of a window has stalled: called with each iteration (1-based) and its
+    :func:`residual_score`, True once the best score has not fallen to ``reduction`` of
+    itself within ``iterations`` iterations."""
+
+    def __init__(self, iterations: int, reduction: float):
+        self.iterations, self.reduction = iterations, reduction
+        self.best, self.since = np.inf, 0
+
+    def __call__(self, iteration: int, score: float) -> bool:
+        if score < self.reduction * self.best:
+            self.best, self.since = score, iteration
+        return iteration - self.since >= self.iterations

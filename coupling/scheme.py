@@ -59,7 +59,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from .acceleration import ACCELERATIONS, AccelerationSettings
-from .convergence import ConvergenceMeasure, window_converged
+from .convergence import ConvergenceMeasure, StallRule, residual_score, window_converged
 from .newton import JACOBIAN_STEP, SecantNewton, finite_difference_jacobian
 from .participant import Participant
 
@@ -484,26 +484,6 @@ def _check_finite(fields: dict, source: str, window, t: float, iteration: int) -
                             "window diverged)", window)
 
 
-def _score(measures, residuals: dict) -> float:
-    """The largest residual over its measure's limit (-): below 1 every measure holds."""
-    return max(residuals[m.field] / m.limit for m in measures)
-
-
-class _Stall:
-    """Whether a try has stalled: its best score (:func:`_score`) has not fallen to
-    ``reduction`` of itself within ``iterations`` iterations."""
-
-    def __init__(self, measures, iterations: int, reduction: float):
-        self.measures, self.iterations, self.reduction = measures, iterations, reduction
-        self.best, self.since = np.inf, 0
-
-    def __call__(self, iteration: int, residuals: dict) -> bool:
-        score = _score(self.measures, residuals)
-        if score < self.reduction * self.best:
-            self.best, self.since = score, iteration
-        return iteration - self.since >= self.iterations
-
-
 class _BestIterate:
     """The iteration of a window whose largest residual over its measure's limit is the
     smallest so far (``iteration``) and a copy of its input fields (``input``)."""
@@ -515,7 +495,7 @@ class _BestIterate:
         self.input: dict = {}
 
     def offer(self, iteration: int, x: dict, residuals: dict) -> None:
-        score = _score(self.measures, residuals)
+        score = residual_score(self.measures, residuals)
         if score < self.score:
             self.score, self.iteration = score, iteration
             self.input = {name: np.array(value, copy=True) for name, value in x.items()}
@@ -537,7 +517,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
     best = _BestIterate(settings.measures) \
         if settings.on_max_iterations in ("accept-best", "newton") else None
 
-    stalled = _Stall(settings.measures, settings.stall_iterations, settings.stall_reduction) \
+    stalled = StallRule(settings.stall_iterations, settings.stall_reduction) \
         if settings.stall_iterations else None
     solved = [0]  # the logged iteration whose solves the participants hold (None: another's)
 
@@ -573,7 +553,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
                 acceleration.converged(packer.pack(x), packer.pack(x_tilde))
             window.relaxation.append(float("nan"))
             break
-        if stalled is not None and stalled(it, residuals):
+        if stalled is not None and stalled(it, residual_score(settings.measures, residuals)):
             break  # split by the caller (_window)
         if packer is None:
             packer = _Packer(names, x_tilde)
