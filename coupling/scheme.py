@@ -356,6 +356,12 @@ def _window(first, second, settings, acceleration, iterate, predicted, k, t, dt,
             dt = smaller
 
 
+def _best_kept(settings: CouplingSettings) -> CouplingSettings:
+    """``settings`` for a try that is not split again: its best iterate kept
+    (``"accept-best"``), never stopped early."""
+    return replace(settings, on_max_iterations="accept-best", stall_iterations=0)
+
+
 def _restart(first, second, checkpoints, acceleration) -> None:
     """Both participants back to ``checkpoints`` and the acceleration's past dropped: a
     window begun again from its start."""
@@ -372,7 +378,7 @@ def _split(first, second, settings, acceleration, iterate, data, t, dt, window, 
     residuals, relaxations and seconds are added to ``window``. Returns the fields at
     t + dt."""
     half = 0.5 * dt
-    last_level = replace(settings, on_max_iterations="accept-best", stall_iterations=0)
+    last_level = _best_kept(settings)
     for i in range(2):
         t_part = t + i * half
         part = WindowLog(index=window.index, time=t_part, size=half)
@@ -399,8 +405,7 @@ def _whole_best(first, second, settings, acceleration, iterate, data, checkpoint
                 "kept", window.index, window.time)
     _restart(first, second, checkpoints, acceleration)
     whole = WindowLog(index=window.index, time=window.time, size=window.size)
-    out = iterate(first, second, replace(settings, on_max_iterations="accept-best",
-                                         stall_iterations=0),
+    out = iterate(first, second, _best_kept(settings),
                   acceleration, dict(data), window.time, window.size, whole)
     _add(window, whole)
     window.part_residuals = []
