@@ -8,7 +8,9 @@ anchor are defined there; ``notebooks/speed_vs_accuracy.ipynb`` reads the same).
 ``benchmarks/output/coupled_convergence.json``, ``coupled_convergence.png`` and
 ``coupled_speed_accuracy.png``; prints one JSON object.  Default run: about 9 min on 2 cores
 (4.5 of them the tension-field family, 3 the one-fold-state family); ``--families "membrane grid, tension field, N = 20-32"``
-takes the tension field one grid further (about 17 min).
+takes the tension field one grid further (about 17 min); ``--families "membrane grid, flat
+diaphragm" "membrane grid, flat diaphragm, N = 20-38"`` runs the flat diaphragm on N = 14 to
+38 (85 s).
 """
 from __future__ import annotations
 

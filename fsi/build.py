@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Optional
 
 from fluid.hydrostatic import HydrostaticLiquid
-from structure.model import Material, MembraneModel, hemisphere_model
+from structure.model import MEMBRANE_SHAPES, Material, MembraneModel
 from structure.statics import RelaxationSettings
 from structure.thesis import ConstraintSettings
 
@@ -62,7 +62,8 @@ def build(scene) -> Setup:
     check_memory(m["grid_size"])
     material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"],
                         m["wrinkling"])
-    model = hemisphere_model(m["grid_size"], scene["tank"]["radius"], material, m["support"])
+    model = MEMBRANE_SHAPES[m["shape"]](m["grid_size"], scene["tank"]["radius"], material,
+                                        m["support"])
     if model.node_fixed.all():
         raise SceneError(f"scene keys 'membrane.grid_size' = {m['grid_size']} and "
                          f"'membrane.support' = '{m['support']}': every node is held by the "

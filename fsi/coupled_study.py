@@ -12,6 +12,10 @@ The case: the bundled ``diaphragm-fill`` (Table 4.1 diaphragm, start at tank fra
   (``membrane.wrinkling``: compression relaxed, README, 'The tension-field diaphragm'), and
   the tension field one grid further, N = 20, 26, 32 (about 17 min, so not in
   :data:`DEFAULT_FAMILIES`);
+* membrane grid N = 14, 20, 26 of a flat diaphragm (``membrane.shape = "disc"``, started at
+  tank fraction 0.52, the sheet taut: no folds), and one grid further, N = 20, 26, 38 (not
+  in :data:`DEFAULT_FAMILIES`): the same coupled stack where the membrane has a converged
+  answer to approach (README, 'The flat diaphragm: the membrane grid converges');
 * window 16, 8, 4 ms with ``dynamics.substep_fraction`` 0.266: 24, 12 and 6 XPBD substeps of
   the same 0.667 ms (at the scene's 0.3 an 8 ms window would take 11 of 0.727 ms).  The
   substep must stay: plain XPBD substeps (one sweep each) make the membrane's stiffness
@@ -52,6 +56,12 @@ TENSION_FIELD_FURTHER = "membrane grid, tension field, N = 20-32"
 """The tension-field membrane grid one grid further: about 17 min, not in a plain study."""
 ONE_FOLD_STATE = "membrane grid, one fold state"
 """The membrane grid with every grid's start carried from N = 14's (``dynamics.start_grid``)."""
+FLAT = "membrane grid, flat diaphragm"
+"""The membrane grid on a flat diaphragm across the equator, taut (no folds)."""
+FLAT_FURTHER = "membrane grid, flat diaphragm, N = 20-38"
+"""The flat diaphragm one grid further (about 1.5 min, not in a plain study)."""
+FLAT_KEYS = {"membrane": {"shape": "disc"}, "dynamics": {"start_fill": 0.52}}
+"""The flat diaphragm's keys: the disc, started bulged by 0.02 of the tank (taut)."""
 FAMILIES = {
     "fluid cells": ("fluid", "cells", [16, 24, 32], {}),
     "membrane grid": ("membrane", "grid_size", [14, 20, 26], {}),
@@ -60,12 +70,15 @@ FAMILIES = {
                                      {"membrane": {"wrinkling": "tension-field"}}),
     TENSION_FIELD_FURTHER: ("membrane", "grid_size", [20, 26, 32],
                             {"membrane": {"wrinkling": "tension-field"}}),
+    FLAT: ("membrane", "grid_size", [14, 20, 26], FLAT_KEYS),
+    FLAT_FURTHER: ("membrane", "grid_size", [20, 26, 38], FLAT_KEYS),
     "window (s)": ("dynamics", "window", [0.016, 0.008, 0.004],
                    {"dynamics": {"substep_fraction": 0.266}}),
     "coupling tolerance": ("coupling", "pressure_tolerance", [1e-3, 1e-4, 1e-5], {}),
 }
 """Family -> (scene table, key, values coarse to fine, other keys held: {table: {key: value}})."""
-DEFAULT_FAMILIES = tuple(name for name in FAMILIES if name != TENSION_FIELD_FURTHER)
+DEFAULT_FAMILIES = tuple(name for name in FAMILIES
+                         if name not in (TENSION_FIELD_FURTHER, FLAT_FURTHER))
 """The families a plain study runs (about 9 min on 2 cores)."""
 
 

@@ -86,7 +86,8 @@ class Procedure:
     name, summary : registry key and one line for listings; run : (setup, progress) ->
     :class:`fsi.lifecycle.RunResult`; tables : {table name: :data:`Table`} the procedure owns
     (a table may be shared by procedures as the same object); structure_model : the only
-    structure model it runs (the scene may say it or 'auto'), None for any; check_setup :
+    structure model it runs (the scene may say it or 'auto'), None for any; membrane_shapes :
+    the ``membrane.shape`` values it runs; check_setup :
     checks that need the built setup (grid spacings, stability limits), raising
     :class:`SceneError`; report : prints the result's summary.
     """
@@ -96,6 +97,7 @@ class Procedure:
     run: Callable
     tables: Mapping[str, Table] = field(default_factory=dict)
     structure_model: Optional[str] = None
+    membrane_shapes: tuple = ("hemisphere",)
     check_setup: Callable[[Any], None] = _nothing
     report: Callable[[Any], None] = _nothing
 

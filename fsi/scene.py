@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 
-from structure.model import SUPPORTS
+from structure.model import MEMBRANE_SHAPES, SUPPORTS
 from structure.shell import MEMBRANE_LAWS
 from structure.xpbd.model import WRINKLING
 
@@ -49,6 +49,11 @@ COMMON: dict[str, Table] = {
                               "Young's modulus (Pa)"),
         "poisson_ratio": Key(float, 0.5, lambda v: 0 <= v <= 0.5, "0..0.5",
                              "Poisson ratio (xpbd and shell models; rubber 0.5)"),
+        "shape": Key(str, "hemisphere", *one_of(list(MEMBRANE_SHAPES)),
+                     "rest shape: the thesis's hemisphere against the lower tank wall, or a "
+                     "flat disc across the equator (thesis Ch. 3; " + ", ".join(
+                         p.name for p in PROCEDURES.values() if "disc" in p.membrane_shapes)
+                     + " only)"),
         "support": Key(str, "clamped", *one_of(list(SUPPORTS)),
                        "rim support: two fixed rings (clamped) or one (simply supported)"),
         "wrinkling": Key(str, "none", *one_of(list(WRINKLING)),
@@ -147,6 +152,7 @@ class Scene:
                                                 value)
             SCHEMA[section].check(values[section])
         _check_structure_model(values)
+        _check_membrane_shape(values)
         return replace(self, values=values)
 
 
@@ -187,6 +193,7 @@ def parse_scene(text: str, source: str = "<string>") -> Scene:
                            for name, key in keys.items()}
         keys.check(values[section])
     _check_structure_model(values)
+    _check_membrane_shape(values)
     return Scene(values, text, source)
 
 
@@ -198,6 +205,15 @@ def _check_structure_model(values: dict) -> None:
         raise SceneError(f"scene key 'structure.model' = {model!r}: the {procedure.name} "
                          f"procedure runs the {needed} model only; allowed 'auto' or "
                          f"'{needed}'")
+
+
+def _check_membrane_shape(values: dict) -> None:
+    """A procedure runs the membrane shapes it lists only."""
+    procedure = PROCEDURES[values["scene"]["procedure"]]
+    shape, allowed = values["membrane"]["shape"], procedure.membrane_shapes
+    if shape not in allowed:
+        raise SceneError(f"scene key 'membrane.shape' = {shape!r}: the {procedure.name} "
+                         f"procedure runs {', '.join(map(repr, allowed))} only")
 
 
 def bundled_scenes() -> list[str]:

@@ -221,3 +221,9 @@ def disc_model(grid_size: int, radius: float, material: Material,
     """Model of a flat disc of the given radius (m) in z = 0 (plate checks)."""
     return build_model(grid_mod.disc_grid(grid_size, radius), grid_size, radius,
                        material, support)
+
+
+MEMBRANE_SHAPES = {"hemisphere": hemisphere_model, "disc": disc_model}
+"""Rest shape -> ``f(grid_size, radius, material, support)`` -> :class:`MembraneModel`: the
+thesis's hemisphere against the lower tank wall, or a flat disc across the equator (the
+thesis's Ch. 3 flat diaphragm; liquid below it fills the lower hemisphere at rest)."""

@@ -12,7 +12,7 @@ def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
     assert load_scene("diaphragm-static")["structure"]["model"] == "auto"
     s = load_scene("thesis-static")
     assert s["membrane"] == dict(grid_size=26, thickness=0.001778, density=1070.0,
-                                 youngs_modulus=8.6e6, poisson_ratio=0.5,
+                                 youngs_modulus=8.6e6, poisson_ratio=0.5, shape="hemisphere",
                                  support="clamped", wrinkling="none")
     assert s["structure"]["model"] == "thesis"
     assert s["tank"]["radius"] == 0.20955
@@ -101,6 +101,25 @@ def test_structure_model_key():
         parse_scene("[structure]\nmodel = 'ansys'")
     assert build(parse_scene("[scene]\nprocedure = 'thesis-ramp'\n[membrane]\ngrid_size = 6")
                  ).structure_model == "thesis"
+
+
+def test_membrane_shape_key_builds_the_disc_where_the_procedure_runs_it():
+    """``membrane.shape = "disc"``: a flat sheet across the equator (every node at z = 0, the
+    rim on r = R) in the coupled fill; refused by name in a procedure that runs the
+    hemisphere only, from a file or from ``with_keys``."""
+    setup = build(load_scene("diaphragm-fill").with_keys({"membrane": {"shape": "disc"}}))
+    x, r = setup.model.node_rest_position, setup.model.radius
+    assert np.abs(x[:, 2]).max() == 0.0
+    assert np.hypot(x[:, 0], x[:, 1]).max() == pytest.approx(r, rel=1e-12)
+    hemisphere = build(load_scene("diaphragm-fill")).model.node_rest_position
+    np.testing.assert_allclose(np.linalg.norm(hemisphere, axis=1), r, rtol=1e-9)
+    assert hemisphere[:, 2].min() < -0.9 * r  # the default: against the lower wall
+    with pytest.raises(SceneError, match="membrane.shape.*volume-sweep.*'hemisphere' only"):
+        parse_scene("[membrane]\nshape = 'disc'")
+    with pytest.raises(SceneError, match="membrane.shape.*slosh procedure"):
+        load_scene("slosh-half").with_keys({"membrane": {"shape": "disc"}})
+    with pytest.raises(SceneError, match="membrane.shape"):
+        parse_scene("[membrane]\nshape = 'cone'")
 
 
 @pytest.mark.parametrize("name", ["thesis-fill", "thesis-drain"])

@@ -335,6 +335,7 @@ PROCEDURE = register_procedure(Procedure(
     run=coupled_fill,
     tables=COUPLED_TABLES,
     structure_model="xpbd",
+    membrane_shapes=("hemisphere", "disc"),
     check_setup=check_coupled_fill,
     report=report,
 ))
