@@ -105,8 +105,9 @@ def test_structure_model_key():
 
 def test_membrane_shape_key_builds_the_disc_where_the_procedure_runs_it():
     """``membrane.shape = "disc"``: a flat sheet across the equator (every node at z = 0, the
-    rim on r = R) in the coupled fill; refused by name in a procedure that runs the
-    hemisphere only, from a file or from ``with_keys``."""
+    rim on r = R) in the coupled fill and the diaphragm's slosh; refused by name in a
+    procedure that runs the hemisphere only (from a file or from ``with_keys``) and by a
+    slosh surface without a membrane."""
     setup = build(load_scene("diaphragm-fill").with_keys({"membrane": {"shape": "disc"}}))
     x, r = setup.model.node_rest_position, setup.model.radius
     assert np.abs(x[:, 2]).max() == 0.0
@@ -116,8 +117,12 @@ def test_membrane_shape_key_builds_the_disc_where_the_procedure_runs_it():
     assert hemisphere[:, 2].min() < -0.9 * r  # the default: against the lower wall
     with pytest.raises(SceneError, match="membrane.shape.*volume-sweep.*'hemisphere' only"):
         parse_scene("[membrane]\nshape = 'disc'")
-    with pytest.raises(SceneError, match="membrane.shape.*slosh procedure"):
-        load_scene("slosh-half").with_keys({"membrane": {"shape": "disc"}})
+    with pytest.raises(SceneError, match="membrane.shape.*thesis-ramp procedure"):
+        load_scene("thesis-ramp").with_keys({"membrane": {"shape": "disc"}})
+    with pytest.raises(SceneError, match="membrane.shape.*'limp' has no membrane"):
+        build(load_scene("slosh-half").with_keys({"membrane": {"shape": "disc"}}))
+    disc = build(load_scene("slosh-diaphragm").with_keys({"membrane": {"shape": "disc"}}))
+    assert np.abs(disc.model.node_rest_position[:, 2]).max() == 0.0
     with pytest.raises(SceneError, match="membrane.shape"):
         parse_scene("[membrane]\nshape = 'cone'")
 

@@ -295,6 +295,7 @@ PROCEDURE = register_procedure(Procedure(
     run=slosh,
     tables={"slosh": SLOSH, "fluid": FLUID, "motion": MOTION, "coupling": COUPLING},
     structure_model="xpbd",
+    membrane_shapes=("hemisphere", "disc"),
     check_setup=check_depth,
     report=report,
 ))

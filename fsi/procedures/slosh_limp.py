@@ -24,6 +24,7 @@ from fluid.tank import tank_grid
 from ..lateral_compliance import Compliance, free_surface_compliance
 from ..limp import HeightSurface, advance_heights
 from ..lifecycle import Run
+from ..registry import SceneError
 from .coupled import FLUID, fluid_convection
 from .slosh_surfaces import Contents, Start, SurfaceWindows, register_surface
 
@@ -65,6 +66,11 @@ class LimpWindows(SurfaceWindows):
 
     @classmethod
     def check(cls, scene) -> None:
+        shape = scene["membrane"]["shape"]
+        if shape != "hemisphere":
+            raise SceneError(f"scene key 'membrane.shape' = {shape!r}: slosh.surface = "
+                             f"{scene['slosh']['surface']!r} has no membrane; allowed "
+                             f"'hemisphere' (the default), or slosh.surface = 'diaphragm'")
         ignored = ignored_fluid_keys(scene)
         if ignored:
             log.warning("slosh.surface = %r ignores %s (keys of the liquid under a membrane)",
