@@ -9,7 +9,9 @@ Runs the bundled ``slosh-diaphragm`` scene (the Table 4.1 diaphragm, a 0.5 m/s^2
 pulse over 0.1 s, then free decay) and its variants: Young's modulus / 10 (and / 100 by name)
 (stiffness), density x 10 (mass), membrane grid N + 6 (how finely the folds are resolved),
 tank fraction 0.3 and 0.7, the tension-field sheet (``membrane.wrinkling``) at 0.5, 0.3 and
-0.7; by name, the XPBD sweeps per substep (1, 16, 32, 128: the start's fold
+0.7; by name, the flat diaphragm (``membrane.shape = "disc"``, taut at tank fraction 0.52:
+a sheet that does not fold, for the membrane grid), the XPBD sweeps per substep (1, 16, 32,
+128: the start's fold
 state and the membrane's stiffness), the window (1 and 4 ms) and the pulse's peak
 (``pulse x0.125`` ... ``pulse x64`` times 0.5 m/s^2: linearity); and the limp surface (the
 free-surface limit) at each tank fraction. Prints one JSON object with, per case,
@@ -97,6 +99,8 @@ CASES = {
                          ("slosh", "start_tolerance", lambda v: 1e-5)],
     "window 1 ms": [("slosh", "window", lambda v: 1e-3)],
     "window 4 ms": [("slosh", "window", lambda v: 4e-3)],
+    "flat diaphragm": [("membrane", "shape", lambda v: "disc"),
+                       ("slosh", "fill", lambda v: 0.52)],
 }
 #: the second-order window: BDF2, inviscid and linearised, every face keeping its history, the
 #: pressure's surface mean at the nodes (README, 'Slosh with the diaphragm')
