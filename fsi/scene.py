@@ -151,8 +151,7 @@ class Scene:
                 values[section][name] = _coerce(f"{section}.{name}", SCHEMA[section][name],
                                                 value)
             SCHEMA[section].check(values[section])
-        _check_structure_model(values)
-        _check_membrane_shape(values)
+        _check_procedure(values)
         return replace(self, values=values)
 
 
@@ -192,9 +191,14 @@ def parse_scene(text: str, source: str = "<string>") -> Scene:
                                   if name in given else key.default)
                            for name, key in keys.items()}
         keys.check(values[section])
+    _check_procedure(values)
+    return Scene(values, text, source)
+
+
+def _check_procedure(values: dict) -> None:
+    """What the scene's procedure runs: its structure model and its membrane shapes."""
     _check_structure_model(values)
     _check_membrane_shape(values)
-    return Scene(values, text, source)
 
 
 def _check_structure_model(values: dict) -> None:
