@@ -102,6 +102,10 @@ CASES = {
     "flat diaphragm": [("membrane", "shape", lambda v: "disc"),
                        ("slosh", "fill", lambda v: 0.52)],
 }
+#: the flat diaphragm held at its rim on r = R only (one fixed ring, the rim's slope held by
+#: the bending; README, 'The flat diaphragm's second fixed ring')
+CASES["flat diaphragm, rim ring only"] = CASES["flat diaphragm"] + [
+    ("membrane", "support", lambda v: "simply-supported")]
 #: the second-order window: BDF2, inviscid and linearised, every face keeping its history, the
 #: pressure's surface mean at the nodes (README, 'Slosh with the diaphragm')
 SECOND_ORDER = [("coupling", "time_scheme", lambda v: "bdf2"),

@@ -15,7 +15,10 @@ The case: the bundled ``diaphragm-fill`` (Table 4.1 diaphragm, start at tank fra
 * membrane grid N = 14, 20, 26 of a flat diaphragm (``membrane.shape = "disc"``, started at
   tank fraction 0.52, the sheet taut: no folds), and one grid further, N = 20, 26, 38 (not
   in :data:`DEFAULT_FAMILIES`): the same coupled stack where the membrane has a converged
-  answer to approach (README, 'The flat diaphragm: the membrane grid converges');
+  answer to approach (README, 'The flat diaphragm: the membrane grid converges'); and the
+  same two with the rim held by its ring on r = R only (``membrane.support =
+  "simply-supported"``), not by a second ring one grid edge inside it whose width changes
+  with N (README, 'The flat diaphragm's second fixed ring');
 * window 16, 8, 4 ms with ``dynamics.substep_fraction`` 0.266: 24, 12 and 6 XPBD substeps of
   the same 0.667 ms (at the scene's 0.3 an 8 ms window would take 11 of 0.727 ms).  The
   substep must stay: plain XPBD substeps (one sweep each) make the membrane's stiffness
@@ -62,6 +65,14 @@ FLAT_FURTHER = "membrane grid, flat diaphragm, N = 20-38"
 """The flat diaphragm one grid further (about 1.5 min, not in a plain study)."""
 FLAT_KEYS = {"membrane": {"shape": "disc"}, "dynamics": {"start_fill": 0.52}}
 """The flat diaphragm's keys: the disc, started bulged by 0.02 of the tank (taut)."""
+FLAT_RIM = "membrane grid, flat diaphragm, rim ring only"
+"""The flat diaphragm held by its rim ring on r = R only (``simply-supported``: the bending
+holds the rim's slope), not by a second ring one grid edge inside it."""
+FLAT_RIM_FURTHER = "membrane grid, flat diaphragm, rim ring only, N = 20-38"
+"""The rim-ring flat diaphragm one grid further (about 35 s, not in a plain study)."""
+FLAT_RIM_KEYS = {"membrane": {"shape": "disc", "support": "simply-supported"},
+                 "dynamics": {"start_fill": 0.52}}
+"""The flat diaphragm's keys with the rim held by one ring."""
 FAMILIES = {
     "fluid cells": ("fluid", "cells", [16, 24, 32], {}),
     "membrane grid": ("membrane", "grid_size", [14, 20, 26], {}),
@@ -72,13 +83,15 @@ FAMILIES = {
                             {"membrane": {"wrinkling": "tension-field"}}),
     FLAT: ("membrane", "grid_size", [14, 20, 26], FLAT_KEYS),
     FLAT_FURTHER: ("membrane", "grid_size", [20, 26, 38], FLAT_KEYS),
+    FLAT_RIM: ("membrane", "grid_size", [14, 20, 26], FLAT_RIM_KEYS),
+    FLAT_RIM_FURTHER: ("membrane", "grid_size", [20, 26, 38], FLAT_RIM_KEYS),
     "window (s)": ("dynamics", "window", [0.016, 0.008, 0.004],
                    {"dynamics": {"substep_fraction": 0.266}}),
     "coupling tolerance": ("coupling", "pressure_tolerance", [1e-3, 1e-4, 1e-5], {}),
 }
 """Family -> (scene table, key, values coarse to fine, other keys held: {table: {key: value}})."""
 DEFAULT_FAMILIES = tuple(name for name in FAMILIES
-                         if name not in (TENSION_FIELD_FURTHER, FLAT_FURTHER))
+                         if name not in (TENSION_FIELD_FURTHER, FLAT_FURTHER, FLAT_RIM_FURTHER))
 """The families a plain study runs (about 9 min on 2 cores)."""
 
 

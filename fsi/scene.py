@@ -55,7 +55,9 @@ COMMON: dict[str, Table] = {
                          p.name for p in PROCEDURES.values() if "disc" in p.membrane_shapes)
                      + " only)"),
         "support": Key(str, "clamped", *one_of(list(SUPPORTS)),
-                       "rim support: two fixed rings (clamped) or one (simply supported)"),
+                       "rim support: two fixed rings (clamped, thesis App. B: the free sheet's "
+                       "rim one grid edge inside r = R) or one on r = R (simply-supported; the "
+                       "xpbd and shell models' bending still holds the rim's slope)"),
         "wrinkling": Key(str, "none", *one_of(list(WRINKLING)),
                          "in-plane law of the xpbd model: 'tension-field' carries no "
                          "compression (a sheet too coarse to fold wrinkles instead of "
