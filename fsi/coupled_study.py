@@ -70,8 +70,7 @@ FLAT_RIM = "membrane grid, flat diaphragm, rim ring only"
 holds the rim's slope), not by a second ring one grid edge inside it."""
 FLAT_RIM_FURTHER = "membrane grid, flat diaphragm, rim ring only, N = 20-38"
 """The rim-ring flat diaphragm one grid further (about 35 s, not in a plain study)."""
-FLAT_RIM_KEYS = {"membrane": {"shape": "disc", "support": "simply-supported"},
-                 "dynamics": {"start_fill": 0.52}}
+FLAT_RIM_KEYS = {**FLAT_KEYS, "membrane": {**FLAT_KEYS["membrane"], "support": "simply-supported"}}
 """The flat diaphragm's keys with the rim held by one ring."""
 FAMILIES = {
     "fluid cells": ("fluid", "cells", [16, 24, 32], {}),
