@@ -10,9 +10,9 @@ pulse over 0.1 s, then free decay) and its variants: Young's modulus / 10 (and /
 (stiffness), density x 10 (mass), membrane grid N + 6 (how finely the folds are resolved),
 tank fraction 0.3 and 0.7, the tension-field sheet (``membrane.wrinkling``) at 0.5, 0.3 and
 0.7; by name, the flat diaphragm (``membrane.shape = "disc"``, taut at tank fraction 0.52:
-a sheet that does not fold, for the membrane grid), the XPBD sweeps per substep (1, 16, 32,
-128: the start's fold
-state and the membrane's stiffness), the window (1 and 4 ms) and the pulse's peak
+a sheet that does not fold, for the membrane grid; and held by its rim ring only, without
+the two-ring support's second ring), the XPBD sweeps per substep (1, 16, 32, 128: the
+start's fold state and the membrane's stiffness), the window (1 and 4 ms) and the pulse's peak
 (``pulse x0.125`` ... ``pulse x64`` times 0.5 m/s^2: linearity); and the limp surface (the
 free-surface limit) at each tank fraction. Prints one JSON object with, per case,
 ``lambda1`` = omega^2 R / g, ``frequency_hz``, ``zeta`` (the first mode, the lowest damped at
