@@ -106,8 +106,9 @@ DYNAMICS = Table({
                             "(0.3: about 1 % stiffness bias, README)"),
     "start_grid": START_GRID,
     "node_damping": Key(float, 0.0, lambda v: 0 <= v <= 10, "0 <= value <= 10 N s/m",
-                        "coupling.time_scheme = euler: c of the membrane substeps' damping of "
-                        "each node's velocity relative to its neighbours', c sum_j (v_j - v_i) "
+                        "coupling.time_scheme = euler, or quasi-static (its windows with the "
+                        "membrane's inertia): c of the membrane substeps' damping of each "
+                        "node's velocity relative to its neighbours', c sum_j (v_j - v_i) "
                         "(N); 0: none (README, 'Node damping')"),
 }, _check_dynamics)
 """[dynamics]: start, windows and frames of a coupled run."""
@@ -367,9 +368,11 @@ def check_interface_velocity(scene) -> None:
 
 def check_node_damping(scene) -> None:
     """``dynamics.node_damping`` > 0 damps the membrane's substeps: refused where the membrane
-    steps otherwise (BDF2's one step, quasi-static equilibria)."""
+    never takes them (BDF2's one step); under quasi-static windows it acts in the windows done
+    with the membrane's inertia (:class:`fsi.adapters.MembraneParticipant`)."""
     c, damping = scene["coupling"], scene["dynamics"]["node_damping"]
-    if damping > 0 and WINDOW_TIME_SCHEMES[c["time_scheme"]][1] != "substeps":
+    if damping > 0 and WINDOW_TIME_SCHEMES[c["time_scheme"]][1] not in ("substeps",
+                                                                       "quasi-static"):
         raise SceneError(f"scene key 'dynamics.node_damping' = {damping!r} N s/m damps the "
                          f"membrane's substeps; with coupling.time_scheme = "
                          f"{c['time_scheme']!r} allowed: 0")
