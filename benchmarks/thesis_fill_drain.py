@@ -4,13 +4,13 @@ fraction.
     python benchmarks/thesis_fill_drain.py [--fill DIR] [--drain DIR]
 
 ``--fill`` / ``--drain``: result folders of ``fsi run thesis-fill`` / ``thesis-drain`` (run
-here when not given, one after the other: about 5 and 10 min).  The static reference is the
+here when not given, one after the other: about 5 and 10 min). The static reference is the
 volume sweep of the same membrane model and grid (XPBD, N = 14, one fixed ring, tank
 fractions 0.1 ... 0.9 and back down), and, at each run's own frames, the static equilibrium
-sought from the frame's shape (the same fold state).  At each tank fraction 0.1 ... 0.9: Eqn 6.1 (%), pressure level
-dynamic - static (Pa), liquid centre of mass distance (mm), for both references; the runs'
-wall time, windows, explicit (fold-snap) windows and the volume bookkeeping (membrane and
-fluid cut cells against the port's integrated flow).
+sought from the frame's shape (the same fold state). At each tank fraction 0.1 ... 0.9:
+Eqn 6.1 (%), pressure level dynamic - static (Pa), liquid centre of mass distance (mm), for
+both references; the runs' wall time, windows, explicit (fold-snap) windows and the volume
+bookkeeping (membrane and fluid cut cells against the port's integrated flow).
 
 Writes ``benchmarks/output/thesis_fill_drain.json`` and ``thesis_fill_drain.png``; prints
 one JSON object.
