@@ -3,7 +3,7 @@ one at a time, with the observed order, and the speed-against-accuracy chart.
 
     python benchmarks/coupled_convergence.py [--end-time 0.048] [--families ...]
 
-The study is :mod:`fsi.coupled_study` (the case, the families, the observed order and the
+The study is :mod:`fsi.analysis.coupled_study` (the case, the families, the observed order and the
 anchor are defined there; ``notebooks/speed_vs_accuracy.ipynb`` reads the same).  Writes
 ``benchmarks/output/coupled_convergence.json``, ``coupled_convergence.png`` and
 ``coupled_speed_accuracy.png``; prints one JSON object.  Default run: about 9 min on 2 cores
@@ -25,7 +25,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from fsi.coupled_study import DEFAULT_FAMILIES, FAMILIES, THESIS_FSI_SECONDS, family, \
+from fsi.analysis.coupled_study import DEFAULT_FAMILIES, FAMILIES, THESIS_FSI_SECONDS, family, \
     plot_families, plot_speed_accuracy  # noqa: E402
 
 OUTPUT = Path(__file__).resolve().parent / "output"

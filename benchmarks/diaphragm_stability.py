@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.constants import MEMBRANE_DENSITY, MEMBRANE_THICKNESS, TANK_RADIUS, WATER_DENSITY
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene

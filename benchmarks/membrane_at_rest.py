@@ -31,8 +31,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from fsi.adapters import PRESSURE, MembraneParticipant  # noqa: E402
-from fsi.build import build  # noqa: E402
+from fsi.coupled.adapters import PRESSURE, MembraneParticipant  # noqa: E402
+from fsi.setup.build import build  # noqa: E402
 from fsi.procedures.coupled_fill import membrane_settings, static_start  # noqa: E402
 from fsi.scene import load_scene  # noqa: E402
 from structure.volume import liquid_volume  # noqa: E402

@@ -11,9 +11,9 @@ scene's static start is found once, on the first grid (its damped XPBD relaxatio
 coupled run starts), and carried to each finer grid (:func:`structure.prolongation.prolong`;
 with ``--chain`` each grid's minimum is carried to the next instead) where the shell model
 polishes it to an exact potential-energy minimum holding the same
-liquid volume (:func:`fsi.carried_start.polish`; where that does not converge, again after
+liquid volume (:func:`fsi.setup.carried_start.polish`; where that does not converge, again after
 2000 of the start's XPBD substeps): the same fold state, refined. On each grid the
-contents' static lateral compliance C = d x_c / d b_x (:mod:`fsi.lateral_compliance`) comes
+contents' static lateral compliance C = d x_c / d b_x (:mod:`fsi.slosh.lateral_compliance`) comes
 from two more shell solves under b = (+-tilt, 0, -g) m/s^2 from that minimum.
 
 The shell stops when its largest free-node force is ``--gradient-tolerance`` times the
@@ -39,11 +39,11 @@ import time
 
 import numpy as np
 
-from fsi.build import build
-from fsi.carried_start import polish, xpbd_settle
-from fsi.compare import eqn_6_1_error
-from fsi.extrapolation import observed_order, richardson
-from fsi.lateral_compliance import first_mode_bound, free_surface_compliance
+from fsi.setup.build import build
+from fsi.setup.carried_start import polish, xpbd_settle
+from fsi.analysis.compare import eqn_6_1_error
+from fsi.analysis.extrapolation import observed_order, richardson
+from fsi.slosh.lateral_compliance import first_mode_bound, free_surface_compliance
 from fsi.procedures.slosh_diaphragm import StaticStart, start_compliance, static_start
 from fsi.scene import load_scene
 from fluid.container import SphericalTank

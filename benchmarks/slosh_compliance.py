@@ -9,7 +9,7 @@ of what the coupled slosh run's frequency converges to.
 For each membrane grid N and tank fraction, the ``slosh-diaphragm`` scene's static start
 (XPBD, the windows' substeps and sweeps: the fold state a coupled run starts from) is tilted
 by b_x = +- tilt and C = d x_c / d b_x of liquid and membrane is measured
-(:mod:`fsi.lateral_compliance`); with the shell model (exact potential-energy minimum)
+(:mod:`fsi.slosh.lateral_compliance`); with the shell model (exact potential-energy minimum)
 polished from the same start unless ``--no-shell``. C bounds the first slosh mode,
 f1 <= 1 / (2 pi sqrt(C)), and equals the coupled run's sum m_n / (M omega_n^2).
 Prints one JSON object: per case C at each tilt, the response's asymmetry, convergence, the
@@ -32,9 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fsi.build import build
-from fsi.lateral_compliance import first_mode_bound, free_surface_compliance
-from fsi.models import statics_substep
+from fsi.setup.build import build
+from fsi.slosh.lateral_compliance import first_mode_bound, free_surface_compliance
+from fsi.setup.models import statics_substep
 from fsi.procedures.coupled_fill import static_equilibrium
 from fsi.procedures.slosh_diaphragm import (StaticStart, elastic_energies, start_compliance,
                                             static_start)

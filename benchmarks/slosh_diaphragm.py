@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 

@@ -33,7 +33,7 @@ import logging
 
 import numpy as np
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.procedures import PROCEDURES
 from fsi.procedures.coupled import FLUID_CONVECTIONS
 from fsi.scene import load_scene

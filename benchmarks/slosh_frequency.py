@@ -28,9 +28,9 @@ import logging
 from pathlib import Path
 
 from fluid.tank import tank_spacing
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.constants import TANK_RADIUS
-from fsi.extrapolation import observed_order, richardson
+from fsi.analysis.extrapolation import observed_order, richardson
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 

@@ -34,7 +34,7 @@ import numpy as np
 
 from coupling.convergence import StallRule, residual_score
 from coupling.scheme import SCHEMES
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 

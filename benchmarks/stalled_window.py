@@ -46,8 +46,8 @@ import cloudpickle
 import numpy as np
 
 from coupling import advance
-from fsi.adapters import POINTS, PRESSURE
-from fsi.build import build
+from fsi.coupled.adapters import POINTS, PRESSURE
+from fsi.setup.build import build
 from fsi.lifecycle import Run
 from fsi.procedures.coupled_fill import fresh_start
 from fsi.scene import load_scene

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.constants import THESIS_RUNTIME_SECONDS
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene, parse_scene

@@ -3,12 +3,12 @@ and a lateral acceleration grow, the regime map, and the table ``fsi advise`` re
 
     python benchmarks/static_vs_dynamic.py [--write-table] [--cases slow pump ...]
 
-Each case (:func:`fsi.static_vs_dynamic.flow_case`): the bundled ``diaphragm-fill`` (Table
+Each case (:func:`fsi.analysis.static_vs_dynamic.flow_case`): the bundled ``diaphragm-fill`` (Table
 4.1 diaphragm, N = 14, 16^3 cells) from its static start at tank fraction 0.5, filled by 0.02
 of the tank (0.005 in the lateral cases) at the case's flow; every frame against the static
 equilibrium holding the same liquid volume on the same path (Eqn 6.1, pressure level, liquid
 centre of mass), the largest of each over the frames.  Cases: the four flows of
-:data:`fsi.static_vs_dynamic.FLOWS` (2e-5 to 1e-2 m^3/s, the last opened in 20 ms) and the
+:data:`fsi.analysis.static_vs_dynamic.FLOWS` (2e-5 to 1e-2 m^3/s, the last opened in 20 ms) and the
 fast flow with a lateral impulse of 1 and 3 m/s^2 over 0.1 s.
 
 Writes ``benchmarks/output/static_vs_dynamic.json``, ``regime_map.png`` (Pi_t against Pi_p,
@@ -29,8 +29,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from fsi.regime import REGIME_TABLE_FILE, plot_map  # noqa: E402
-from fsi.static_vs_dynamic import FLOWS, flow_case  # noqa: E402
+from fsi.analysis.regime import REGIME_TABLE_FILE, plot_map  # noqa: E402
+from fsi.analysis.static_vs_dynamic import FLOWS, flow_case  # noqa: E402
 
 OUTPUT = Path(__file__).resolve().parent / "output"
 CASES = {**{name: dict(case) for name, case in FLOWS.items()},

@@ -3,7 +3,7 @@
     python benchmarks/structure_convergence.py [--models thesis xpbd shell]
                                                [--grids 14 20 26 38 54] [--write-table]
 
-For each model of :data:`fsi.models.STRUCTURE_MODELS` and grid size N of the thesis scene
+For each model of :data:`fsi.setup.models.STRUCTURE_MODELS` and grid size N of the thesis scene
 (clamped hemisphere, hydrostatic water), the model fills the tank by continuation to the same
 absolute liquid volumes, TANK_FRACTIONS of the tank volume (4/3) pi R^3.  Each shape is
 compared by the thesis's Eqn 6.1 (volume-weighted surface difference, %) with
@@ -33,10 +33,10 @@ from pathlib import Path
 
 import numpy as np
 
-from fsi.build import build
-from fsi.compare import eqn_6_1_error
+from fsi.setup.build import build
+from fsi.analysis.compare import eqn_6_1_error
 from fsi.constants import THESIS_RUNTIME_SECONDS
-from fsi.models import MODEL_TABLE_FILE, STRUCTURE_MODELS, hydrostatic_load
+from fsi.setup.models import MODEL_TABLE_FILE, STRUCTURE_MODELS, hydrostatic_load
 from fsi.scene import parse_scene
 from structure.grid import triangles_from_quads
 from structure.model import MembraneState
@@ -44,7 +44,7 @@ from structure.statics import strain_error
 
 TANK_FRACTIONS = (0.2, 0.35, 0.5)
 OUTPUT = Path(__file__).resolve().parent / "output"
-TABLE = Path(__file__).resolve().parent.parent / "fsi" / MODEL_TABLE_FILE
+TABLE = Path(__file__).resolve().parent.parent / "fsi" / "setup" / MODEL_TABLE_FILE
 
 
 def scene_for(model: str, grid_size: int):

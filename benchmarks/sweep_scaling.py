@@ -5,7 +5,7 @@ with 2 workers of a ``LocalCluster``.
 
 The sweep is the bundled ``slosh-half`` (limp diaphragm, impulse then free decay) at tank
 fractions V / (4/3 pi R^3) 0.1 ... 0.9 (9 cases, ``--cells`` per axis, ``--end-time`` s
-simulated), run by ``fsi sweep`` (:func:`fsi.sweep_run.run_sweep`) into a new folder per
+simulated), run by ``fsi sweep`` (:func:`fsi.sweep.run.run_sweep`) into a new folder per
 worker count. Prints one JSON object: per worker count the sweep's wall seconds (cluster
 start included), the sum of its cases' own wall seconds, and the speed-up against one worker
 beside its anchor, the ideal for whole cases: n / ceil(n / w) for n cases of equal length on
@@ -28,9 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fsi import sweep_data
-from fsi.sweep_file import parse_sweep
-from fsi.sweep_run import run_sweep
+from fsi.sweep import data as sweep_data
+from fsi.sweep.file import parse_sweep
+from fsi.sweep.run import run_sweep
 
 SWEEP = """[sweep]
 name = "scaling"

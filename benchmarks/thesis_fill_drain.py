@@ -31,11 +31,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from fsi.build import build  # noqa: E402
-from fsi.output import read_result  # noqa: E402
+from fsi.setup.build import build  # noqa: E402
+from fsi.io.output import read_result  # noqa: E402
 from fsi.procedures import PROCEDURES  # noqa: E402
 from fsi.scene import load_scene, parse_scene  # noqa: E402
-from fsi.static_vs_dynamic import against_static, compare  # noqa: E402
+from fsi.analysis.static_vs_dynamic import against_static, compare  # noqa: E402
 
 OUTPUT = Path(__file__).resolve().parent / "output"
 FILLS = [round(0.1 * k, 1) for k in range(1, 10)]

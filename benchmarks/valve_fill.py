@@ -27,7 +27,7 @@ import sys
 import time
 from pathlib import Path
 
-from fsi.output import read_result
+from fsi.io.output import read_result
 from fsi.scene import load_scene
 from thesis_fill_drain import OUTPUT, leg, plot, run_scene, static_sweep, write
 

@@ -24,7 +24,7 @@ of its own), wall seconds, and, for a case that reached its end, the wall time a
 from its start to 0.9 (a drain: to 0.1) at that flow and window would take at the same rate
 (``full_fill_hours``).
 
-Each kind of window takes the flow study's keys (:data:`fsi.static_vs_dynamic.TIME_SCHEME_KEYS`):
+Each kind of window takes the flow study's keys (:data:`fsi.analysis.static_vs_dynamic.TIME_SCHEME_KEYS`):
 the inertial ones the scene's coupling (IQN-ILS, 100 iterations, a stalled window accepted),
 the quasi-static ones the thesis fill's.  Writes
 ``benchmarks/output/valve_open_low_fill.json`` and ``valve_open_low_fill.png`` (each case by
@@ -46,10 +46,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from fsi.build import build  # noqa: E402
+from fsi.setup.build import build  # noqa: E402
 from fsi.procedures import PROCEDURES  # noqa: E402
 from fsi.scene import load_scene  # noqa: E402
-from fsi.static_vs_dynamic import TIME_SCHEME_KEYS  # noqa: E402
+from fsi.analysis.static_vs_dynamic import TIME_SCHEME_KEYS  # noqa: E402
 
 OUTPUT = Path(__file__).resolve().parent / "output"
 START_FILL = 0.1

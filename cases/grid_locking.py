@@ -23,7 +23,7 @@ Measured per point:
   (``ramp_end_fraction``: the same at the end of the ramp). 1 = the rest shape mirrored through
   the equator. The clamped band (second fixed ring, a cell below the equator) cannot invert, so
   even a converged inversion holds less: ``static_cap`` is the fill of the fully inverted static
-  equilibrium (:func:`fsi.fill.full_inversion`, independent of the limit), one per grid.
+  equilibrium (:func:`fsi.setup.fill.full_inversion`, independent of the limit), one per grid.
 - strain_mean (-): Sum |L - L0| / Sum L0 over the in-plane springs at the end (the thesis's
   error, measured after all constraints); strain_max (-): largest single spring |L - L0| / L0.
 - seconds (s): wall time of the point (ramp + hold, compiled kernels).
@@ -43,9 +43,9 @@ import time
 
 import numpy as np
 
-from fsi.build import build
-from fsi.fill import full_inversion
-from fsi.models import hydrostatic_load
+from fsi.setup.build import build
+from fsi.setup.fill import full_inversion
+from fsi.setup.models import hydrostatic_load
 from fsi.procedures.thesis_ramp import thesis_settings
 from fsi.scene import SceneError, parse_scene
 from structure.statics import strain_error
@@ -82,7 +82,7 @@ def run_point(grid_size: int, error_limit: float, end_time: float, hold: float,
     """Ramp (as thesis_ramp) then hold at the final height until stopped; see module docstring."""
     try:
         setup = scene_for(grid_size, error_limit, end_time, dt)
-    except SceneError as exc:  # dt above the a-priori Courant limit (fsi.build)
+    except SceneError as exc:  # dt above the a-priori Courant limit (fsi.setup.build)
         return {"grid_size": grid_size, "error_limit": error_limit, "inverted_fraction": np.nan,
                 "strain_mean": np.nan, "seconds": 0.0, "status": "courant-error",
                 "ramp_end_fraction": np.nan, "strain_max": np.nan, "ramp_time": end_time,

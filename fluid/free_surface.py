@@ -57,8 +57,8 @@ from .projection import (THETA_MIN, GHOST_LAYERS, ProjectionOperators, StepRepor
                          _balance_regions, _extend_pressure, _face_predictor,
                          _flow_port_velocity, _liquid_regions, _momentum_predictor,
                          _open_area, cell_gradient, face_gradient, interpolate_to_faces,
-                         momentum_inputs, net_outflow,
-                         port_values, register_stepper)
+                         momentum_inputs, net_outflow, port_values)
+from .steppers import register_stepper
 from .systems import PressureInputs
 
 
@@ -396,8 +396,3 @@ def column_index(grid, cells: np.ndarray) -> np.ndarray:
 
 #: smallest open cross-section of a surface column, as a fraction of a cell face
 MIN_COLUMN_FRACTION = 0.05
-
-
-# the linearised surface's stepper builds on this one and registers itself here, so that every
-# interface condition is known wherever the registry is
-from . import linear_surface as _linear_surface  # noqa: E402,F401

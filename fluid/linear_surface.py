@@ -40,7 +40,8 @@ import numpy as np
 from .free_surface import Surface, advance, column_index, initial_pressure, surface_of
 from .geometry import Geometry
 from .model import FluidModel, FluidState
-from .projection import ProjectionOperators, StepReport, register_stepper
+from .projection import ProjectionOperators, StepReport
+from .steppers import register_stepper
 
 
 def outward_normals(model: FluidModel, surface: Surface) -> np.ndarray:

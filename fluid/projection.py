@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import time as _time
 from dataclasses import dataclass, replace
-from typing import Callable
 
 import numpy as np
 from scipy import sparse
@@ -35,6 +34,7 @@ from . import terms as _terms  # noqa: F401  (registers the "fipy" assembly)
 from .geometry import Geometry
 from .linear import make_solver, pressure_solver_for, single_blas_thread, warn_if_unconverged
 from .model import FluidModel, FluidState
+from .steppers import STEPPERS, register_stepper
 from .systems import ASSEMBLIES, MomentumInputs, PressureInputs
 from .time_schemes import TIME_SCHEMES
 
@@ -245,29 +245,6 @@ def initial_state(model: FluidModel, ops: ProjectionOperators, geometry: Geometr
     pressure = STEPPERS[model.interface_condition].initial_pressure(model, ops, geometry, time)
     return FluidState(time=time, cell_velocity=np.zeros((g.n_cells, g.dim)),
                       face_velocity=np.zeros(g.n_faces), pressure=pressure, geometry=geometry)
-
-
-@dataclass(frozen=True)
-class Stepper:
-    """How the liquid meets its interface: ``step(model, ops, state, geometry, dt)`` ->
-    (state, report) and ``initial_pressure(model, ops, geometry, time)`` -> (n_cells,) Pa,
-    the reduced pressure of the liquid at rest."""
-
-    step: Callable
-    initial_pressure: Callable
-
-
-#: ``FluidModel.interface_condition`` -> :class:`Stepper` ('wall': the moving wall of this
-#: module; 'free': the free surface of :mod:`fluid.free_surface`)
-STEPPERS: dict[str, Stepper] = {}
-
-
-def register_stepper(name: str, initial_pressure: Callable):
-    """Decorator: register a step function and its initial pressure under ``name``."""
-    def register(func):
-        STEPPERS[name] = Stepper(func, initial_pressure)
-        return func
-    return register
 
 
 def step(model: FluidModel, ops: ProjectionOperators, state: FluidState, geometry: Geometry,
@@ -636,8 +613,3 @@ def _gauge_cell(model: FluidModel, ops: ProjectionOperators, geometry: Geometry)
         if len(cells):
             return int(cells[np.argmax(geometry.cell_fraction[cells])])
     return int(np.argmax(geometry.cell_fraction))
-
-
-# the free-surface stepper registers itself here, so that every interface condition is known
-# wherever the registry is (it imports this module's helpers, hence the import at the end)
-from . import free_surface as _free_surface  # noqa: E402,F401

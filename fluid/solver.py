@@ -23,6 +23,8 @@ import numpy as np
 from .geometry import Geometry, compute_geometry, hold_liquid_centres
 from .interface import Interface
 from .model import FluidModel, FluidState
+from . import free_surface as _free_surface  # noqa: F401  (registers the 'free' stepper)
+from . import linear_surface as _linear_surface  # noqa: F401  (registers 'free-linear')
 from .projection import ProjectionOperators, StepReport, initial_state, step
 from .sampling import sample_cells
 

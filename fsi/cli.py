@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .run_job import (EXIT_NOT_CONVERGED, ProgressBar, UsageError, guarded,  # noqa: F401
-                      not_converged, run as cmd_run)
+from fsi.run_job import (EXIT_NOT_CONVERGED, ProgressBar, UsageError, guarded,  # noqa: F401
+                         not_converged, run as cmd_run)
 
 log = logging.getLogger("fsi")
 
@@ -53,9 +53,9 @@ class SweepBar:
 
 
 def cmd_sweep(args) -> int:
-    from . import sweep_data
-    from .sweep_file import load_sweep
-    from .sweep_run import run_sweep
+    from fsi.sweep import data as sweep_data
+    from fsi.sweep.file import load_sweep
+    from fsi.sweep.run import run_sweep
 
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers {args.workers}: allowed an integer >= 1")
@@ -133,7 +133,7 @@ def check_obj_size(points: np.ndarray, radius: float, path) -> None:
 def read_run(path) -> dict:
     """A result for ``fsi compare``/``show``; :class:`UsageError` naming the file when it is
     not one."""
-    from .output import read_result
+    from fsi.io.output import read_result
 
     try:
         res = read_result(path)
@@ -152,7 +152,7 @@ def read_obj(path):
     file when it cannot be read as one."""
     import meshio
 
-    from .compare import read_obj_surface
+    from fsi.analysis.compare import read_obj_surface
 
     try:
         points, faces = read_obj_surface(path)
@@ -171,7 +171,7 @@ def read_obj(path):
 
 
 def cmd_compare(args) -> int:
-    from .compare import eqn_6_1_error
+    from fsi.analysis.compare import eqn_6_1_error
 
     a = read_run(args.a)
     if "frames" not in a or "node_position" not in a["frames"]:
@@ -214,7 +214,7 @@ def cmd_compare(args) -> int:
 
 
 def cmd_scenes(args) -> int:
-    from .scene import bundled_scenes, bundled_text, load_scene, reference_markdown
+    from fsi.scene import bundled_scenes, bundled_text, load_scene, reference_markdown
 
     if args.name:
         print(bundled_text(args.name), end="")
@@ -230,7 +230,7 @@ def cmd_scenes(args) -> int:
 def cmd_sweeps(args) -> int:
     import tomllib
 
-    from .sweep_file import bundled_sweep_text, bundled_sweeps
+    from fsi.sweep.file import bundled_sweep_text, bundled_sweeps
 
     if args.name:
         print(bundled_sweep_text(args.name), end="")
@@ -242,8 +242,8 @@ def cmd_sweeps(args) -> int:
 
 
 def cmd_advise(args) -> int:
-    from .regime import advise_scene, load_table
-    from .scene import load_scene
+    from fsi.analysis.regime import advise_scene, load_table
+    from fsi.scene import load_scene
 
     if not args.accuracy > 0:
         raise UsageError(f"--accuracy {args.accuracy}: an accuracy is > 0 (% Eqn 6.1)")
@@ -256,7 +256,7 @@ def cmd_advise(args) -> int:
 
 
 def cmd_show(args) -> int:
-    from .lifecycle import RunResult
+    from fsi.lifecycle import RunResult
 
     res = read_run(args.run)
     a = res["attrs"]
@@ -338,7 +338,7 @@ def _result_parsers(sub) -> None:
 
 
 def main(argv=None) -> int:
-    from .output import software_version
+    from fsi.io.output import software_version
 
     parser = argparse.ArgumentParser(prog="fsi", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version",

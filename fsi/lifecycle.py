@@ -8,7 +8,7 @@
     result = run.result(**attrs)                 # frames stacked per group, timing, stop reason
 
 A procedure returns a :class:`RunResult`: named groups of frames (arrays with a leading frame
-axis) that :mod:`fsi.output` writes as HDF5 groups, and run facts (attrs). Procedures never
+axis) that :mod:`fsi.io.output` writes as HDF5 groups, and run facts (attrs). Procedures never
 write files or plot. Every result carries ``failure`` (empty, or why the run stopped early)
 and every frame of the membrane the fields of :func:`membrane_frame`.
 """
@@ -97,7 +97,7 @@ class Run:
         return time.perf_counter() - self.started
 
     def resumed(self, checkpoint: dict) -> None:
-        """The run continues from ``checkpoint`` (:mod:`fsi.checkpoint`): its records, and
+        """The run continues from ``checkpoint`` (:mod:`fsi.io.checkpoint`): its records, and
         its clock counts the ``elapsed`` seconds of the run before it."""
         self.groups = checkpoint["groups"]
         self.started -= checkpoint.get("elapsed", 0.0)

@@ -108,7 +108,7 @@ class Procedure:
         what it recorded, with ``interrupted`` (the signal's number) or ``solver_failure``
         (the error's type) and ``failure`` set; such an error before the run started raises
         :class:`StartFailure`."""
-        from .lifecycle import Interrupted, Run
+        from fsi.lifecycle import Interrupted, Run
 
         Run.current = None
         try:

@@ -1,6 +1,6 @@
-"""``fsi run``: one scene run into a results folder (:mod:`fsi.run_folder`), with progress,
+"""``fsi run``: one scene run into a results folder (:mod:`fsi.io.run_folder`), with progress,
 signals, checkpoints and an exit status that says how it went; what ``fsi sweep`` runs for
-each case too (:func:`fsi.sweep_run.run_case`).
+each case too (:func:`fsi.sweep.run.run_case`).
 
 Exit status: 0 all converged; 1 the run stopped early (written) or could not start (nothing
 written); 2 bad input; 3 (:data:`EXIT_NOT_CONVERGED`) finished and written, something did not
@@ -23,8 +23,8 @@ log = logging.getLogger("fsi")
 def guarded(command, args) -> int:
     """``command(args)``; bad input (a scene, a value, an output folder, a missing file) is
     one line on stderr and exit status 2."""
-    from .registry import SceneError
-    from .run_folder import OutputError
+    from fsi.registry import SceneError
+    from fsi.io.run_folder import OutputError
 
     try:
         return command(args)
@@ -83,10 +83,11 @@ def prepare(args):
     """(folder, scene, setup) of ``fsi run``: the results folder checked and the scene built
     and validated before anything is computed; with ``--resume`` the checkpoint read, and the
     checkpoint file set when the scene asks for checkpoints."""
-    from .build import build
-    from .checkpoint import CHECKPOINT_FILE, read as read_checkpoint, wanted as wants_checkpoints
-    from .run_folder import RunFolder
-    from .scene import load_scene
+    from fsi.setup.build import build
+    from fsi.io.checkpoint import (CHECKPOINT_FILE, read as read_checkpoint, wanted as
+                                   wants_checkpoints)
+    from fsi.io.run_folder import RunFolder
+    from fsi.scene import load_scene
 
     folder = RunFolder(args.out, args.overwrite, args.resume)  # before anything is computed
     scene = load_scene(args.scene)
@@ -106,10 +107,10 @@ def run(args) -> int:
     returns the exit status (module doc)."""
     from tqdm.contrib.logging import logging_redirect_tqdm
 
-    from .checkpoint import CHECKPOINT_FILE
-    from .output import write_result
-    from .plots import make_plots
-    from .registry import StartFailure
+    from fsi.io.checkpoint import CHECKPOINT_FILE
+    from fsi.io.output import write_result
+    from fsi.io.plots import make_plots
+    from fsi.registry import StartFailure
 
     folder, scene, setup = prepare(args)
     procedure = setup.procedure
@@ -185,7 +186,7 @@ def stop_on_signals():
     sweep's case on a Dask worker) signals are the worker's own: nothing is changed."""
     import threading
 
-    from .lifecycle import STOP
+    from fsi.lifecycle import STOP
 
     if threading.current_thread() is not threading.main_thread():
         yield

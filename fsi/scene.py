@@ -19,10 +19,10 @@ from structure.model import MEMBRANE_SHAPES, SUPPORTS
 from structure.shell import MEMBRANE_LAWS
 from structure.xpbd.model import WRINKLING
 
-from . import constants
-from . import procedures  # noqa: F401  (fills the registry)
-from .models import STRUCTURE_MODELS
-from .registry import PROCEDURES, Key, SceneError, Table, is_vec3, one_of, positive
+from fsi import constants
+from fsi import procedures  # noqa: F401  (fills the registry)
+from fsi.setup.models import STRUCTURE_MODELS
+from fsi.registry import PROCEDURES, Key, SceneError, Table, is_vec3, one_of, positive
 
 __all__ = ["SCHEMA", "Scene", "SceneError", "bundled_scenes", "load_scene", "parse_scene",
            "reference_markdown"]

@@ -3,7 +3,9 @@
 The solver packages (structure, fluid, coupling) know nothing of each other or of the
 application (fsi); coupling knows no participant at all; no production package reaches into
 the model problems (cases) or the benchmark scripts. Inside fsi the modules import each other
-without cycles, and no function or method of fsi is longer than MAX_FUNCTION_LINES.
+without cycles, and so do its rooms (each subpackage, and each module at its top level); each
+room says in its docstring what it holds; no function or method of fsi is longer than
+MAX_FUNCTION_LINES. Inside each solver package the modules import each other without cycles.
 
 Every ``import`` and ``from ... import`` counts, at module level or inside a function, with
 relative imports resolved against the importing module.
@@ -167,6 +169,53 @@ def test_fsi_modules_import_each_other_without_cycles():
         reports.append(" -> ".join(cycle) + "\n    " + "\n    ".join(steps))
     if reports:
         pytest.fail("import cycles among fsi modules:\n  " + "\n  ".join(reports), pytrace=False)
+
+
+def _room(module: str) -> str:
+    """The room of an fsi module: its subpackage (``fsi.sweep``) or, at fsi's top level,
+    the module itself (``fsi.scene``)."""
+    return ".".join(module.split(".")[:2])
+
+
+def test_fsi_rooms_import_each_other_without_cycles():
+    rooms: dict[str, dict[str, int]] = {}
+    where: dict[tuple[str, str], str] = {}
+    for module, edges in _fsi_graph().items():
+        for dest, line in edges.items():
+            a, b = _room(module), _room(dest)
+            rooms.setdefault(b, {})
+            if a != b:
+                rooms.setdefault(a, {}).setdefault(b, line)
+                where.setdefault((a, b), f"{module} -> {dest} ({_where(module, line)})")
+    reports = [" -> ".join(cycle) + "\n    " + "\n    ".join(where[a, b] for a, b in zip(cycle, cycle[1:]))
+               for cycle in _cycles(rooms)]
+    if reports:
+        pytest.fail("import cycles among fsi's rooms:\n  " + "\n  ".join(reports), pytrace=False)
+
+
+def test_every_fsi_room_says_what_it_holds():
+    silent = [name for name, path in MODULE_FILES.items()
+              if name.count(".") == 1 and name.startswith("fsi.") and path.name == "__init__.py"
+              and not (ast.get_docstring(ast.parse(path.read_text())) or "").strip()]
+    assert not silent, f"rooms of fsi without a docstring: {silent}"
+
+
+@pytest.mark.parametrize("package", SOLVERS)
+def test_solver_modules_import_each_other_without_cycles(package):
+    graph = {}
+    for module, path in MODULE_FILES.items():
+        if module.split(".")[0] != package:
+            continue
+        edges = graph.setdefault(module, {})
+        for line, target, names in _imports(module, path):
+            for name in names or ("",):
+                sub = f"{target}.{name}"
+                dest = sub if sub in MODULE_FILES else target
+                if dest in MODULE_FILES and dest != module and dest.split(".")[0] == package \
+                        and dest != package:
+                    edges.setdefault(dest, line)
+    cycles = _cycles(graph)
+    assert not cycles, f"import cycles among {package} modules: {cycles}"
 
 
 def test_fsi_functions_are_at_most_60_lines():

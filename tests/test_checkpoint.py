@@ -1,4 +1,4 @@
-"""Checkpoints and resume (fsi.checkpoint): a coupled fill killed with SIGKILL, or stopped
+"""Checkpoints and resume (fsi.io.checkpoint): a coupled fill killed with SIGKILL, or stopped
 with SIGTERM, at a random moment after its first checkpoint, then resumed with --resume, ends
 with the arrays of an uninterrupted run, bit for bit (the wall-clock seconds excepted)."""
 import random
@@ -10,7 +10,7 @@ import time
 import numpy as np
 import pytest
 
-from fsi.output import read_result
+from fsi.io.output import read_result
 
 SCENE = """[scene]
 name = "ck"
@@ -85,7 +85,7 @@ def test_resume_without_a_checkpoint_is_one_line(tmp_path, capsys):
 
 
 def test_checkpoints_fall_due_by_count_or_by_wall_time(monkeypatch):
-    from fsi import checkpoint
+    from fsi.io import checkpoint
 
     clock = {"t": 100.0}
     monkeypatch.setattr(checkpoint.time, "monotonic", lambda: clock["t"])

@@ -8,7 +8,7 @@ import meshio
 import pytest
 
 from fsi.cli import main
-from fsi.output import software_version
+from fsi.io.output import software_version
 from fsi.scene import load_scene, parse_scene
 
 

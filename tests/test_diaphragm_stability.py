@@ -7,7 +7,7 @@ lies below it (safe)."""
 import numpy as np
 import pytest
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.constants import MEMBRANE_DENSITY, MEMBRANE_THICKNESS, TANK_RADIUS, WATER_DENSITY
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
@@ -61,15 +61,15 @@ def test_coupled_fill_is_first_order_in_the_window():
 
 @pytest.fixture(scope="module")
 def flat_family():
-    """The flat diaphragm's membrane-grid family, N = 14, 20, 26 (fsi.coupled_study)."""
-    from fsi.coupled_study import FLAT, family
+    """The flat diaphragm's membrane-grid family, N = 14, 20, 26 (fsi.analysis.coupled_study)."""
+    from fsi.analysis.coupled_study import FLAT, family
     return family(FLAT, 0.048)
 
 
 def test_coupled_fill_of_a_flat_diaphragm_converges_in_the_membrane_grid(flat_family):
     """The coupled stack on a membrane that does not fold: ``diaphragm-fill`` with a flat
     diaphragm across the equator (``membrane.shape = "disc"``), started taut at tank
-    fraction 0.52, on N = 14, 20, 26 to t = 0.048 s (fsi.coupled_study's family; README,
+    fraction 0.52, on N = 14, 20, 26 to t = 0.048 s (fsi.analysis.coupled_study's family; README,
     'The flat diaphragm: the membrane grid converges'; measured: Eqn 6.1 against N = 26
     0.276 and 0.093 %, observed orders 1.23 (level), 1.38 (centre z), 1.04 (shape)). Every
     run converges, the differences shrink, and each order lies between 0.8 and 3; the
@@ -92,7 +92,7 @@ def test_the_flat_diaphragms_grid_error_is_its_second_fixed_ring(flat_family):
     Eqn 6.1 of N = 14 against N = 26 0.038 % against 0.276 %). The sheet's own grid error
     is small beside the second ring's: the levels' spread under a tenth of the two-ring
     family's, N = 14's shape error under a fifth, the centres' heights within 0.01 mm."""
-    from fsi.coupled_study import FLAT_RIM, family
+    from fsi.analysis.coupled_study import FLAT_RIM, family
 
     rim = family(FLAT_RIM, 0.048)
     assert all(r["failure"] == "" and r["start_converged"] for r in rim["runs"])
@@ -109,11 +109,11 @@ def test_the_flat_diaphragms_grid_error_is_its_second_fixed_ring(flat_family):
 
 @pytest.mark.slow
 def test_coupled_fill_converges_in_the_fluid_grid_and_the_coupling_tolerance():
-    """The slow members of the coupled fill's convergence study (fsi.coupled_study; README,
+    """The slow members of the coupled fill's convergence study (fsi.analysis.coupled_study; README,
     'Convergence of the coupled fill', measured: fluid cells 16/24/32 shape order 1.32,
     coupling tolerance 1e-3/1e-4/1e-5 shape order 1.05): each family's shape error against
     its finest falls (observed order > 0.5), and every run converges."""
-    from fsi.coupled_study import family
+    from fsi.analysis.coupled_study import family
 
     for name in ("fluid cells", "coupling tolerance"):
         fam = family(name, 0.048)

@@ -3,8 +3,8 @@ import numpy as np
 
 from fsi.cli import EXIT_NOT_CONVERGED, main, not_converged
 from fsi.lifecycle import RunResult
-from fsi.output import read_result
-from fsi.plots import fill_label
+from fsi.io.output import read_result
+from fsi.io.plots import fill_label
 
 
 def test_not_converged_names_each_group_and_attribute():

@@ -20,7 +20,7 @@ from fluid.interface import Interface
 from fluid.model import FluidModel, Port
 from fluid.solver import FluidSolver
 from fluid.validation import OFF_GRID
-from fsi.adapters import POINTS, PRESSURE, VELOCITIES, FluidParticipant
+from fsi.coupled.adapters import POINTS, PRESSURE, VELOCITIES, FluidParticipant
 
 RADIUS, DEPTH, RHO = 0.1, 0.3, 1000.0
 MASS, STIFFNESS, Z_REST, AMPLITUDE = 1.0, 1000.0, 0.01, 1.0e-3

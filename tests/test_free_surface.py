@@ -1,5 +1,5 @@
 """The free-surface liquid step (:mod:`fluid.free_surface`) and the height surface that moves
-with it (:mod:`fsi.limp`): a level surface at rest stays at rest, volume is conserved, and the
+with it (:mod:`fsi.slosh.limp`): a level surface at rest stays at rest, volume is conserved, and the
 first sloshing mode of an upright cylinder has the closed-form frequency."""
 import numpy as np
 import pytest
@@ -11,8 +11,8 @@ from fluid.model import FluidModel
 from fluid.solver import FluidSolver
 from fluid.tank import tank_grid
 from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY
-from fsi.limp import HeightSurface, advance_heights
-from fsi.slosh_analysis import fit_free_decay
+from fsi.slosh.limp import HeightSurface, advance_heights
+from fsi.slosh.analysis import fit_free_decay
 
 G = STANDARD_GRAVITY
 

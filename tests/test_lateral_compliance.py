@@ -1,10 +1,11 @@
-"""The contents' static lateral compliance (fsi.lateral_compliance) and the liquid's first
+"""The contents' static lateral compliance (fsi.slosh.lateral_compliance) and the liquid's first
 moment it is measured with (structure.volume.liquid_first_moment)."""
 import numpy as np
 import pytest
 
-from fsi.lateral_compliance import (contents_centre, first_mode_bound, free_surface_compliance,
-                                    modal_compliance, static_compliance)
+from fsi.slosh.lateral_compliance import (contents_centre, first_mode_bound,
+                                          free_surface_compliance, modal_compliance,
+                                          static_compliance)
 from structure.model import Material, hemisphere_model
 from structure.volume import liquid_first_moment, liquid_volume, mirrored_rest_position
 
@@ -84,7 +85,7 @@ def test_the_flat_diaphragms_compliance_converges_when_held_by_its_rim_ring_only
     on r = R only, C moves less than 1.5 % from N = 14 to 20 to 26; with the two-ring
     support N = 14's is under a third of it, because the second ring shortens the free
     disc by one grid edge."""
-    from fsi.build import build
+    from fsi.setup.build import build
     from fsi.procedures.slosh_diaphragm import start_compliance, static_start
     from fsi.scene import load_scene
 

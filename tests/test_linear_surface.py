@@ -13,9 +13,9 @@ from fluid.model import FluidModel
 from fluid.solver import FluidSolver
 from fluid.tank import tank_grid, tank_spacing
 from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY
-from fsi.limp import HeightSurface
-from fsi.extrapolation import observed_order, richardson
-from fsi.slosh_analysis import fit_free_decay
+from fsi.slosh.limp import HeightSurface
+from fsi.analysis.extrapolation import observed_order, richardson
+from fsi.slosh.analysis import fit_free_decay
 
 G = STANDARD_GRAVITY
 R = TANK_RADIUS

@@ -16,9 +16,9 @@ from fluid.hydrostatic import HydrostaticLiquid
 from fluid.model import Port
 from fluid.solver import FluidSolver
 from fluid.tank import sphere_model, tank_grid
-from fsi.adapters import (POINTS, PRESSURE, VELOCITIES, FluidParticipant, MembraneParticipant,
-                          MembraneSurface)
-from fsi.limits import courant_time_step_limit
+from fsi.coupled.adapters import (POINTS, PRESSURE, VELOCITIES, FluidParticipant,
+                                  MembraneParticipant, MembraneSurface)
+from fsi.setup.limits import courant_time_step_limit
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
                            STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
 from structure.load import Load

@@ -1,7 +1,7 @@
 """Choosing a structure model: ``auto`` takes the cheapest measured model within the accuracy."""
 import pytest
 
-import fsi.models as models
+import fsi.setup.models as models
 
 
 @pytest.fixture

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from fsi.motion import MOTIONS, body_acceleration, tank_acceleration
+from fsi.setup.motion import MOTIONS, body_acceleration, tank_acceleration
 from fsi.scene import SceneError, parse_scene
 
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import scipy.linalg as la
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.constants import MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS, TANK_RADIUS
 from fsi.scene import SceneError, load_scene
 from structure.load import Load

@@ -17,7 +17,7 @@ import pytest
 
 from fsi.cli import main
 from fsi.constants import MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS, TANK_RADIUS
-from fsi.output import read_result
+from fsi.io.output import read_result
 from fsi.procedures.plate_estimate import hydrostatic_load, weight_load
 from fsi.scene import SceneError, parse_scene
 from structure.plate import (ESTIMATES, FlatDiaphragm, ShellDisc, hencky, hencky_centre,

@@ -1,4 +1,4 @@
-"""The maps that carry the liquid's cell pressure to the membrane's nodes (fsi.pressure_maps).
+"""The maps that carry the liquid's cell pressure to the membrane's nodes (fsi.coupled.pressure_maps).
 
 Oracles: the subdivision rule's closed-form moments (int over a triangle of lambda_1^2 dA =
 A / 6, from int lambda1^a lambda2^b lambda3^c dA = 2 A a! b! c! / (a + b + c + 2)!), and a
@@ -15,11 +15,11 @@ from fluid.geometry import HELD_LEVEL_CELLS, hold_liquid_centres
 from fluid.sampling import CELL_WEIGHTS, FIT_KERNELS, MIN_FRACTION, sample_cells, threshold_weight
 from fluid.solver import FluidSolver
 from fluid.tank import sphere_model, tank_grid
-from fsi.adapters import FluidParticipant, MembraneSurface
+from fsi.coupled.adapters import FluidParticipant, MembraneSurface
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
                            STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
-from fsi.pressure_maps import (PRESSURE_MAPS, QUADRATURE_LEVELS, membrane_quadrature,
-                               subdivision_barycentres)
+from fsi.coupled.pressure_maps import (PRESSURE_MAPS, QUADRATURE_LEVELS, membrane_quadrature,
+                                       subdivision_barycentres)
 from structure.model import Material, MembraneState, hemisphere_model
 from structure.xpbd import XpbdModel
 

@@ -4,7 +4,7 @@ grid, fixed nodes at rest."""
 import numpy as np
 import pytest
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.scene import SceneError, load_scene
 
 from structure.model import Material, disc_model, hemisphere_model
@@ -106,10 +106,10 @@ def test_a_start_carried_from_a_coarser_grid_is_that_grids_fold_state_at_rest_he
 
 
 def test_a_polish_that_does_not_converge_is_settled_and_tried_again(monkeypatch):
-    """:func:`fsi.carried_start.polish`: a first minimum that converges is returned as it is
+    """:func:`fsi.setup.carried_start.polish`: a first minimum that converges is returned as it is
     and ``settle`` is not called; one that does not is followed by ``settle`` from the
     carried state and a second minimum from the settled state and its level."""
-    import fsi.carried_start as cs
+    import fsi.setup.carried_start as cs
     from structure.load import Equilibrium
     from structure.model import MembraneState
 

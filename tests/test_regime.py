@@ -2,13 +2,13 @@
 advice and the command.
 
 Oracles: the first slosh period of a half-full rigid sphere from Budiansky's (1960)
-lambda_1 = omega_1^2 R / g = 1.5602; the pressures from their definitions (fsi.regime) with
+lambda_1 = omega_1^2 R / g = 1.5602; the pressures from their definitions (fsi.analysis.regime) with
 the bundled diaphragm-fill's numbers worked by hand."""
 import numpy as np
 import pytest
 
 from fsi.cli import main
-from fsi.regime import FIXED_ADVICE, advise, advise_scene, load_table, predicted, regime
+from fsi.analysis.regime import FIXED_ADVICE, advise, advise_scene, load_table, predicted, regime
 from fsi.scene import load_scene
 
 ROWS = [dict(pressure_ratio=1e-3, eqn_6_1=0.01, level_difference=-2.0, centre_distance_mm=0.01),

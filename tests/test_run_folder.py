@@ -1,4 +1,4 @@
-"""The results folder of fsi run (fsi.run_folder): checked before anything is computed,
+"""The results folder of fsi run (fsi.io.run_folder): checked before anything is computed,
 replaced whole with --overwrite, and never half written."""
 import os
 
@@ -69,13 +69,13 @@ def test_overwrite_replaces_the_folder_whole(tmp_path, scene):
 
 def test_a_run_that_dies_while_plotting_leaves_no_folder_but_a_marked_partial(tmp_path, scene,
                                                                               monkeypatch):
-    import fsi.plots
+    import fsi.io.plots
 
     def crash(run_dir):
         (run_dir / "plots").mkdir()
         (run_dir / "plots" / "half.png").write_text("")
         raise RuntimeError("killed while plotting")
-    monkeypatch.setattr(fsi.plots, "make_plots", crash)
+    monkeypatch.setattr(fsi.io.plots, "make_plots", crash)
     out = tmp_path / "run"
     with pytest.raises(RuntimeError):
         main(["run", str(scene), "--out", str(out)])
@@ -89,8 +89,8 @@ def test_a_stopped_run_s_checkpoint_in_dir_is_resumed_and_kept_if_stopped_again(
     resumed run anew (DIR is replaced whole at its end), and where that run is stopped again
     before it writes a checkpoint of its own, DIR's checkpoint is carried over, not lost;
     a resumed run that finishes leaves none."""
-    from fsi.checkpoint import CHECKPOINT_FILE
-    from fsi.run_folder import RunFolder
+    from fsi.io.checkpoint import CHECKPOINT_FILE
+    from fsi.io.run_folder import RunFolder
 
     out = tmp_path / "run"
     out.mkdir()

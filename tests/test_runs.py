@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from fsi.cli import main
-from fsi.compare import eqn_6_1_error, node_areas
-from fsi.output import read_result
+from fsi.analysis.compare import eqn_6_1_error, node_areas
+from fsi.io.output import read_result
 from fsi.scene import parse_scene
 
 RAMP = """
@@ -324,7 +324,7 @@ def test_slow_quasi_static_fill_follows_the_static_path(tmp_path):
     port): the coupled run's level must equal the static equilibrium's at the same volume
     (the same damped XPBD relaxation from the same start), its windows must grow from 0.05 s to the 1 s cap,
     and the membrane's volume must follow the port's delivered volume."""
-    from fsi.build import build
+    from fsi.setup.build import build
     from fsi.procedures.coupled import window_substep
     from fsi.procedures.coupled_fill import (START_MAX_STEPS, START_TOLERANCE,
                                              static_equilibrium, static_start)

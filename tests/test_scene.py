@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.scene import SCHEMA, SceneError, bundled_scenes, load_scene, parse_scene
 
 
@@ -62,7 +62,7 @@ def test_bad_scene_raises_naming_key_and_range(text, key, allowed):
 
 
 def test_unresolved_port_raises_before_running():
-    from fsi.build import build
+    from fsi.setup.build import build
 
     scene = parse_scene("[scene]\nprocedure = 'coupled-fill'\n[port]\nradius = 0.02\n"
                         "[fluid]\ncells = 16")
@@ -217,7 +217,7 @@ def test_interface_velocity_reaches_the_membrane_and_is_checked():
     velocity the liquid sees'); the default is the membrane's own end velocity."""
     from types import SimpleNamespace
 
-    from fsi.adapters import INTERFACE_VELOCITIES
+    from fsi.coupled.adapters import INTERFACE_VELOCITIES
     from fsi.procedures.coupled_fill import assemble, membrane_settings
     from structure.model import MembraneState
     from structure.xpbd import XpbdModel

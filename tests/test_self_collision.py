@@ -8,8 +8,8 @@ interpenetrate, which the second case measures so that the first cannot pass vac
 import numpy as np
 from scipy.spatial import cKDTree
 
-from fsi.build import build
-from fsi.fill import full_inversion
+from fsi.setup.build import build
+from fsi.setup.fill import full_inversion
 from fsi.scene import parse_scene
 from structure.load import Load
 from structure.model import MembraneState

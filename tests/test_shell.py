@@ -9,8 +9,8 @@ sum_T (A n)_T (2 p_i + p_j + p_k) / 12 exactly, for any shape.
 import numpy as np
 import pytest
 
-from fsi.build import build
-from fsi.models import STRUCTURE_MODELS
+from fsi.setup.build import build
+from fsi.setup.models import STRUCTURE_MODELS
 from fsi.scene import parse_scene
 from structure.grid import triangles_from_quads
 from structure.load import Load

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from fsi.output import read_result
+from fsi.io.output import read_result
 from tests.test_runs import RAMP
 
 LONG_RAMP = RAMP.replace("end_time = 0.05", "end_time = 50.0")

@@ -12,12 +12,12 @@ from fluid.grid import cartesian_grid
 from fluid.measures import angular_momentum, kinetic_energy, momentum
 from fluid.model import FluidModel
 from fluid.solver import FluidSolver
-from fsi.build import build
-from fsi.motion import tank_acceleration
-from fsi.output import read_result
+from fsi.setup.build import build
+from fsi.setup.motion import tank_acceleration
+from fsi.io.output import read_result
 from fsi.procedures import PROCEDURES
 from fsi.scene import SceneError, load_scene, parse_scene
-from fsi.slosh_response import contents_response
+from fsi.slosh.response import contents_response
 
 R = 0.20955
 

@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from fsi.slosh_analysis import (
-    DecayFit, MechanicalModel, equivalent_model, fit_free_decay, pulse_response)
+from fsi.slosh.analysis import (DecayFit, MechanicalModel, equivalent_model, fit_free_decay,
+                                pulse_response)
 
 G = 9.81
 
@@ -253,7 +253,7 @@ def test_failed_spring_mass_keeps_the_decay():
     """A force record no spring-mass model explains (its slosh mass would exceed the
     contents') fails the equivalent only: the decay's frequency and damping are still
     reported, and the failure names the equivalent."""
-    from fsi.slosh_response import first_mode
+    from fsi.slosh.response import first_mode
     t = np.arange(0.0, 5.0, 0.002)
     omega, zeta = 2 * np.pi * 1.36, 0.01
     x = 1e-3 * np.exp(-zeta * omega * t) * np.cos(omega * t)
@@ -273,7 +273,7 @@ def test_stokes_layer_is_the_oscillating_walls_and_says_when_a_grid_misses_it():
     cell of the 0.20955 m tank (32 mm); the summary says that such a zeta is the grid's."""
     from fluid.tank import tank_spacing
     from fsi.procedures.slosh import _zeta_origin
-    from fsi.slosh_analysis import stokes_layer
+    from fsi.slosh.analysis import stokes_layer
     omega = 2 * np.pi * 6.8243
     delta = stokes_layer(1e-3, 1000.0, omega)
     assert delta == pytest.approx(np.sqrt(2e-6 / omega), rel=1e-12)

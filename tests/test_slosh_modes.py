@@ -1,10 +1,10 @@
-"""Several modes from a two-channel free decay (fsi.slosh_modes) and the spring-mass
+"""Several modes from a two-channel free decay (fsi.slosh.modes) and the spring-mass
 equivalent with a slosh mass per mode."""
 import numpy as np
 import pytest
 
-from fsi.slosh_analysis import equivalent_model, fit_free_decay, pulse_response
-from fsi.slosh_modes import MODE_MAX_ZETA, fit_modes
+from fsi.slosh.analysis import equivalent_model, fit_free_decay, pulse_response
+from fsi.slosh.modes import MODE_MAX_ZETA, fit_modes
 
 T = np.arange(0.15, 3.0, 0.002)  # s, the diaphragm scene's sampling after the pulse
 MODES = ((7.0, 0.038, -39.0, 1.0e-4, 0.4), (8.94, 0.040, 54.5, 1.6e-4, 2.1))
@@ -40,7 +40,7 @@ def test_split_pair_recovers_both_modes_and_their_directions():
 
 def test_single_cosine_on_the_split_pair_is_what_misled():
     """The one-mode fit of x alone reproduces neither mode (frequency within 0.1 % and
-    zeta within 10 %): the reason the analysis fits every mode (fsi.slosh_modes)."""
+    zeta within 10 %): the reason the analysis fits every mode (fsi.slosh.modes)."""
     single = fit_free_decay(T, split_pair(T)[:, 0], start=0.15)
     misses = [max(abs(single.frequency_hz / f - 1) / 1e-3, abs(single.zeta / z - 1) / 0.1)
               for f, z, *_ in MODES]

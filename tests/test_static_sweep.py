@@ -1,13 +1,13 @@
 """Acceptance of the volume-controlled static sweep on the bundled thesis scene (Table 4.1).
 
 Checks, per fill 0 %..100 %: liquid volume within 0.1 % of the target (thesis App. J volume
-sum, fill scale of :mod:`fsi.fill`), in-plane strain within ErrorLimit as App. G defines it
+sum, fill scale of :mod:`fsi.setup.fill`), in-plane strain within ErrorLimit as App. G defines it
 (sum |L - L0| / sum L0), rim fixed, converged; and the 100 % frame is an inverted membrane.
 """
 import numpy as np
 import pytest
 
-from fsi.build import build
+from fsi.setup.build import build
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene, parse_scene
 
@@ -42,14 +42,14 @@ def test_full_fill_is_inverted_and_reported_against_the_mirror(sweep):
     centre = setup.model.grid_size // 2 * (setup.model.grid_size + 1)
     assert pos[centre, 2] > 0.5 * setup.model.radius
     ratio = result.attrs["full_volume"] / result.attrs["mirrored_volume"]
-    assert 0.7 < ratio < 1.0  # the clamped band below the equator cannot invert (fsi.fill)
+    assert 0.7 < ratio < 1.0  # the clamped band below the equator cannot invert (fsi.setup.fill)
 
 
 def test_simply_supported_rim_inverts_to_the_mirror_image():
     scene = parse_scene("[structure]\nmodel = 'thesis'\n"
                         "[membrane]\ngrid_size = 10\nsupport = 'simply-supported'\n"
                         "[sweep]\nfills = [0.0]\ndrain = false\n")
-    from fsi.fill import full_inversion
+    from fsi.setup.fill import full_inversion
     full = full_inversion(build(scene))
     assert full.info.converged
     assert full.info.liquid_volume == pytest.approx(full.mirrored_volume, rel=1e-3)

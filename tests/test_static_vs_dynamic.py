@@ -1,9 +1,9 @@
-"""Static against dynamic (fsi.static_vs_dynamic): the pairing of frames by tank fraction and
+"""Static against dynamic (fsi.analysis.static_vs_dynamic): the pairing of frames by tank fraction and
 the three differences, on shapes whose answers are known."""
 import numpy as np
 import pytest
 
-from fsi.static_vs_dynamic import PAIRING_TOLERANCE, centre_of_mass, compare
+from fsi.analysis.static_vs_dynamic import PAIRING_TOLERANCE, centre_of_mass, compare
 
 
 def _frames(model, positions, levels):

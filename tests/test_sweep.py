@@ -1,4 +1,4 @@
-"""Sweeps (fsi.sweep_file, fsi.sweep_run, fsi.sweep_data): cases from a sweep file, run on a
+"""Sweeps (fsi.sweep.file, fsi.sweep.run, fsi.sweep.data): cases from a sweep file, run on a
 two-worker Dask LocalCluster, one dataset whose values are the single runs'; a failed case is
 recorded and the others go on; a resumed sweep skips finished cases; a case whose worker is
 killed is rerun (from its checkpoint) and ends as an uninterrupted single run."""
@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from fsi.cli import main
-from fsi.output import read_result
-from fsi.sweep_file import SweepError, expand, parse_sweep
+from fsi.io.output import read_result
+from fsi.sweep.file import SweepError, expand, parse_sweep
 from tests.test_checkpoint import SLOSH
 
 TINY_SCENE = """[scene]
@@ -65,7 +65,7 @@ def test_axes_expand_lists_ranges_and_zipped_keys(tmp_path):
                                          ("valve-fill-samples", 5),
                                          ("valve-drain-samples", 5)])
 def test_bundled_sweeps_build_every_case(name, cases, capsys):
-    from fsi.sweep_file import load_sweep
+    from fsi.sweep.file import load_sweep
 
     sweep = load_sweep(name)
     assert len(sweep.cases) == cases and sweep.name == name
@@ -107,7 +107,7 @@ def test_two_workers_one_dataset_equal_to_single_runs_and_a_resume(tmp_path, cap
     assert "2 of 4 cases failed" in err and "sweep.fills" in err
     records = [json.loads(line) for line in (out / "cases.jsonl").read_text().splitlines()]
     assert sorted(r["status"] for r in records) == [0, 0, 2, 2]
-    from fsi import sweep_data
+    from fsi.sweep import data as sweep_data
 
     ds = sweep_data.read(out)
     assert ds["exit_status"].values.tolist() == [[0, 2], [0, 2]]
@@ -140,7 +140,7 @@ def test_two_workers_one_dataset_equal_to_single_runs_and_a_resume(tmp_path, cap
 def test_a_resumed_sweep_answers_for_the_cases_it_skipped(tmp_path):
     """A resumed sweep with nothing left to run still fails (or reports unconverged) for the
     cases that did so before: its outcome counts their records in DIR/cases.jsonl."""
-    from fsi.sweep_run import lay_out, run_sweep
+    from fsi.sweep.run import lay_out, run_sweep
 
     path, out = _files(tmp_path), tmp_path / "out"
     sweep = parse_sweep(path.read_text(), str(path), tmp_path)
@@ -174,7 +174,7 @@ def test_per_fill_quantities_and_eqn_6_1_against_the_reference_case(tmp_path, ca
                               '= 10 }').replace("sweep.fills = [[0.1, 0.2], [0.1, 0.5]]\n", "")
     path, out = _files(tmp_path, text), tmp_path / "out"
     assert main(["sweep", str(path), "--out", str(out), "--workers", "1"]) == 0
-    from fsi import sweep_data
+    from fsi.sweep import data as sweep_data
 
     ds = sweep_data.read(out)
     assert ds["fill"].values.tolist() == [0.1, 0.2] and ds["fill"].attrs["fill_scale"] == "tank"
@@ -211,8 +211,8 @@ def test_a_case_whose_worker_is_killed_is_rerun_from_its_checkpoint(tmp_path):
     uninterrupted run bit for bit, and the sweep finishes every case."""
     from dask.distributed import Client, LocalCluster
 
-    from fsi.sweep_file import load_sweep
-    from fsi.sweep_run import run_sweep
+    from fsi.sweep.file import load_sweep
+    from fsi.sweep.run import run_sweep
     from tests.test_checkpoint import _assert_equal_arrays
 
     path, out = _files(tmp_path, SLOSH_SWEEP, SLOSH_SCENE), tmp_path / "out"
@@ -259,7 +259,7 @@ def test_frames_between_requested_fills_are_left_out_of_the_fill_axis():
     # at every 0.1 of tank fraction; a sweep of such runs gathers the latter only
     from types import SimpleNamespace
 
-    from fsi.sweep_data import fill_variables
+    from fsi.sweep.data import fill_variables
 
     nan = float("nan")
     axis = SimpleNamespace(name="pressure_tolerance")

@@ -122,7 +122,7 @@ def test_inflated_disc_is_taut_and_unchanged(discs):
 
 
 def test_wrinkling_needs_the_xpbd_model():
-    from fsi.build import build
+    from fsi.setup.build import build
     from fsi.scene import SceneError, load_scene
 
     scene = load_scene("thesis-static").with_keys({"membrane": {"wrinkling": "tension-field"}})

@@ -19,8 +19,8 @@ import pytest
 from coupling.scheme import run
 from fluid.solver import FluidSolver
 from fluid.validation import PistonCase, flat_interface
-from fsi.adapters import POINTS, PRESSURE, VELOCITIES, FluidParticipant
-from fsi.slosh_modes import fit_modes
+from fsi.coupled.adapters import POINTS, PRESSURE, VELOCITIES, FluidParticipant
+from fsi.slosh.modes import fit_modes
 
 import test_fluid_coupling as column
 

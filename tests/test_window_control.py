@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from coupling import CouplingError, run
-from fsi.window_control import (GROW, RETRIES, RETRY_FACTOR, SHRINK, WindowController,
-                                local_error)
+from fsi.coupled.window_control import (GROW, RETRIES, RETRY_FACTOR, SHRINK, WindowController,
+                                        local_error)
 from tests.test_coupling import _pair, _settings
 
 

@@ -9,7 +9,7 @@ sphere volume.
 import numpy as np
 import pytest
 
-from fsi.compare import eqn_6_1_error
+from fsi.analysis.compare import eqn_6_1_error
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
                            STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
 from structure.grid import triangles_from_quads

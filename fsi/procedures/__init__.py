@@ -10,8 +10,8 @@ Modules that register nothing hold what several procedures share (:mod:`.static`
 import importlib
 import pkgutil
 
-from ..lifecycle import RunResult
-from ..registry import PROCEDURES, Procedure
+from fsi.lifecycle import RunResult
+from fsi.registry import PROCEDURES, Procedure
 
 for _module in sorted(m.name for m in pkgutil.iter_modules(__path__)):
     importlib.import_module(f"{__name__}.{_module}")

@@ -15,13 +15,13 @@ from fluid.solver import FluidSolver
 from fluid.tank import port_stub_volume, tank_spacing
 from structure.volume import liquid_volume
 
-from ..adapters import (CENTRE_CELLS, INTERFACE_VELOCITIES, POINTS, PRESSURE, FluidParticipant,
-                        MembraneSurface)
-from ..limits import courant_time_step_limit
-from ..models import XPBD_COURANT_FRACTION
-from ..pressure_maps import PRESSURE_MAPS
-from ..motion import MOTIONS
-from ..registry import Key, SceneError, Table, is_vec3, one_of, positive, short_number
+from fsi.coupled.adapters import (CENTRE_CELLS, INTERFACE_VELOCITIES, POINTS, PRESSURE,
+                                  FluidParticipant, MembraneSurface)
+from fsi.setup.limits import courant_time_step_limit
+from fsi.setup.models import XPBD_COURANT_FRACTION
+from fsi.coupled.pressure_maps import PRESSURE_MAPS
+from fsi.setup.motion import MOTIONS
+from fsi.registry import Key, SceneError, Table, is_vec3, one_of, positive, short_number
 
 
 def _history(v):
@@ -77,7 +77,7 @@ START_GRID = Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
                  "grid N0, carried to membrane.grid_size and polished there by the shell model, "
                  "so that runs on several grids start from one fold state (README, 'One fold "
                  "state through the grids')")
-"""dynamics.start_grid and slosh.start_grid (:mod:`fsi.carried_start`)."""
+"""dynamics.start_grid and slosh.start_grid (:mod:`fsi.setup.carried_start`)."""
 
 DYNAMICS = Table({
     "start_fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
@@ -125,7 +125,7 @@ MOTION = Table({
     "history": Key(list, [], _history, "rows [t, ax, ay, az], times increasing (s, m/s^2)",
                    "table: a(t) piecewise linear through the rows, held outside them"),
 }, _check_motion)
-"""[motion]: the tank's acceleration (:mod:`fsi.motion`)."""
+"""[motion]: the tank's acceleration (:mod:`fsi.setup.motion`)."""
 
 PORT = Table({
     "flow": Key(float, 5e-4, lambda v: abs(v) <= 1.0, "-1..1 m^3/s",
@@ -212,7 +212,7 @@ def fluid_convection(setup) -> bool:
 
 
 def fluid_pressure_map(setup):
-    """The ``fluid.pressure_map`` function (:data:`fsi.pressure_maps.PRESSURE_MAPS`)."""
+    """The ``fluid.pressure_map`` function (:data:`fsi.coupled.pressure_maps.PRESSURE_MAPS`)."""
     return PRESSURE_MAPS[setup.scene["fluid"]["pressure_map"]]
 
 
@@ -226,7 +226,7 @@ def fluid_participant(setup, fluid: FluidSolver, surface: MembraneSurface) -> Fl
 
 def membrane_surface(setup, model, fluid_model) -> MembraneSurface:
     """The XPBD ``model``'s membrane closed for the liquid of ``fluid_model``
-    (:class:`fsi.adapters.MembraneSurface`); with ``fluid.volume = "membrane"`` each interface
+    (:class:`fsi.coupled.adapters.MembraneSurface`); with ``fluid.volume = "membrane"`` each interface
     carries the liquid volume on the grid: the membrane's exact enclosed volume
     (:func:`structure.volume.liquid_volume`) and the port stub below the sphere."""
     if not FLUID_VOLUMES[setup.scene["fluid"]["volume"]]:
@@ -369,7 +369,7 @@ def check_interface_velocity(scene) -> None:
 def check_node_damping(scene) -> None:
     """``dynamics.node_damping`` > 0 damps the membrane's substeps: refused where the membrane
     never takes them (BDF2's one step); under quasi-static windows it acts in the windows done
-    with the membrane's inertia (:class:`fsi.adapters.MembraneParticipant`)."""
+    with the membrane's inertia (:class:`fsi.coupled.adapters.MembraneParticipant`)."""
     c, damping = scene["coupling"], scene["dynamics"]["node_damping"]
     if damping > 0 and WINDOW_TIME_SCHEMES[c["time_scheme"]][1] not in ("substeps",
                                                                        "quasi-static"):

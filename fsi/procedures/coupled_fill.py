@@ -7,13 +7,13 @@ and the liquid's flow coupled in time.
 * Structure: XPBD windows (:func:`structure.xpbd.step`, plain substeps of
   ``dynamics.substep_fraction`` of the explicit limit), the liquid volume held at what the
   port has delivered; the multiplier of that volume is the uniform pressure level
-  (incompressibility dilemma, :mod:`fsi.adapters`).
+  (incompressibility dilemma, :mod:`fsi.coupled.adapters`).
 * Fluid: incompressible Navier-Stokes on the 3-D immersed-boundary grid (:mod:`fluid`), the
   membrane's triangles and node velocities as the moving interface (closed by a can outside
-  the tank, :class:`fsi.adapters.MembraneSurface`), a port stub of ``port.radius`` and
+  the tank, :class:`fsi.coupled.adapters.MembraneSurface`), a port stub of ``port.radius`` and
   ``port.length`` below the bottom pole with Q(t) = ``port.flow`` min(t / ``port.ramp_time``, 1)
   entering at its end.
-* Tank motion: ``[motion]`` (:mod:`fsi.motion`), the body acceleration g - a(t) in the tank
+* Tank motion: ``[motion]`` (:mod:`fsi.setup.motion`), the body acceleration g - a(t) in the tank
   frame, felt by the liquid and by the membrane's mass.
 * Coupling: ``[coupling]`` (:mod:`coupling`), membrane first, liquid second, the interface
   pressure accelerated; convergence on the pressure and the node positions.
@@ -37,17 +37,17 @@ from structure.model import MembraneState
 from structure.volume import FillScale, liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
-from ..adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
-from ..carried_start import carried_start, carries, xpbd_settle
-from ..checkpoint import CheckpointDue, write as write_checkpoint
-from ..lifecycle import Progress, Run, RunResult, membrane_frame
-from ..models import hydrostatic_load
-from ..motion import body_acceleration
-from ..registry import Procedure, register_procedure
-from ..window_control import END_TOLERANCE, WindowController
-from .coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES, check_coupled_fill,
-                      coupling_settings, fluid_convection, fluid_participant, membrane_surface,
-                      window_substep)
+from fsi.coupled.adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
+from fsi.setup.carried_start import carried_start, carries, xpbd_settle
+from fsi.io.checkpoint import CheckpointDue, write as write_checkpoint
+from fsi.lifecycle import Progress, Run, RunResult, membrane_frame
+from fsi.setup.models import hydrostatic_load
+from fsi.setup.motion import body_acceleration
+from fsi.registry import Procedure, register_procedure
+from fsi.coupled.window_control import END_TOLERANCE, WindowController
+from fsi.procedures.coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES,
+                                    check_coupled_fill, coupling_settings, fluid_convection,
+                                    fluid_participant, membrane_surface, window_substep)
 
 log = logging.getLogger(__name__)
 
@@ -102,7 +102,7 @@ def membrane_settings(setup) -> XpbdSettings:
 def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     """The membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction) under the
     hydrostatic liquid, by damped XPBD at the dynamics' substep: (state, Equilibrium); from
-    the start of the grid ``dynamics.start_grid`` carried here (:mod:`fsi.carried_start`)
+    the start of the grid ``dynamics.start_grid`` carried here (:mod:`fsi.setup.carried_start`)
     when that is set."""
     dyn = setup.scene["dynamics"]
     volume = float(FillScale.tank(setup.model.radius).volume(dyn["start_fill"]))
@@ -176,7 +176,7 @@ def frame(setup, parts: Coupled, state, pressure, level, t, seconds, converged) 
 FRAME_FILL_STEP = 0.1
 """Besides every ``dynamics.frame_interval`` windows, a frame is recorded at the end of each
 window in which the tank fraction crosses a multiple of this (-): the fills at which a fill or
-drain is compared with the static sweep (:mod:`fsi.static_vs_dynamic`)."""
+drain is compared with the static sweep (:mod:`fsi.analysis.static_vs_dynamic`)."""
 
 
 def window_recorder(setup, parts: Coupled, run: Run, controller=None):
@@ -225,7 +225,7 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
 def coupled_fill(setup, progress: Progress) -> RunResult:
     """Fill (or drain) through the port from a static start, membrane and liquid coupled;
     from ``setup.resume`` when given, writing checkpoints to ``setup.checkpoint``
-    (:mod:`fsi.checkpoint`)."""
+    (:mod:`fsi.io.checkpoint`)."""
     dyn = setup.scene["dynamics"]
     planned = max(1, int(round(dyn["end_time"] / dyn["window"])))
     run = Run(progress, planned, dyn["frame_interval"])

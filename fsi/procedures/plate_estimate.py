@@ -25,8 +25,8 @@ import numpy as np
 
 from structure.plate import ESTIMATES, FlatDiaphragm
 
-from ..lifecycle import Progress, Run, RunResult
-from ..registry import Key, Procedure, Table, one_of, register_procedure
+from fsi.lifecycle import Progress, Run, RunResult
+from fsi.registry import Key, Procedure, Table, one_of, register_procedure
 
 RADIAL_SAMPLES = 41
 """Radii at which each profile is recorded, 0..a (-)."""

@@ -2,10 +2,10 @@
 
 * Start: the liquid at rest at ``slosh.fill`` = V / (4/3 pi R^3) (the tank fraction), under
   ``liquid.body_acceleration``.
-* Excitation: ``[motion]`` (:mod:`fsi.motion`): ``impulse`` (a smooth lateral pulse, then
+* Excitation: ``[motion]`` (:mod:`fsi.setup.motion`): ``impulse`` (a smooth lateral pulse, then
   free decay), ``sine`` (forced) or ``table``; the contents feel b(t) = g - a(t).
 * Surface (``slosh.surface``, a registry): ``limp``, the diaphragm slack, massless and
-  without bending, i.e. the liquid's free surface (:mod:`fsi.limp`, :mod:`fluid.free_surface`);
+  without bending, i.e. the liquid's free surface (:mod:`fsi.slosh.limp`, :mod:`fluid.free_surface`);
   ``linear``, the same linearised (the level fixed, its elevation a field on it: linear slosh
   theory, :mod:`.slosh_linear`); ``diaphragm``, the elastic membrane of ``[membrane]`` coupled to the liquid by
   ``[coupling]`` (:mod:`.slosh_diaphragm`).
@@ -13,12 +13,12 @@
   step per window.
 * Per window (group ``windows``): time, the tank's acceleration, the liquid's momentum and
   angular momentum, kinetic energy, viscous dissipation rate, the surface's gravitational
-  potential energy, liquid volume; from them (:mod:`fsi.slosh_response`) the force and the
+  potential energy, liquid volume; from them (:mod:`fsi.slosh.response`) the force and the
   moment about the tank centre that the contents put on the tank and their centre of mass.
 * Analysis (impulse or table excitation): the first mode's frequency, damping ratio and
   lambda1 = omega^2 R / g from the centre of mass's free decay after ``slosh.analysis_start``,
   and the NASA SP-106 spring-mass equivalent from the force and moment; the start's static
-  lateral compliance (:mod:`fsi.lateral_compliance`: the free surface's |z_c| / g, the
+  lateral compliance (:mod:`fsi.slosh.lateral_compliance`: the free surface's |z_c| / g, the
   diaphragm's from two tilted static solves), the first-mode bound it sets and the fitted
   modes' own sum m_n / (M omega_n^2) against it.
 """
@@ -34,20 +34,20 @@ from fluid.linear import single_blas_thread
 from fluid.tank import tank_spacing
 from structure.volume import tank_volume
 
-from ..checkpoint import CheckpointDue, write as write_checkpoint
-from ..lateral_compliance import first_mode_bound, modal_compliance
-from ..lifecycle import Progress, Run, RunResult, stack
-from ..models import XPBD_COURANT_FRACTION, XPBD_DYNAMIC_SWEEPS
-from ..motion import body_acceleration, tank_acceleration
-from ..registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
-from ..slosh_analysis import stokes_layer
-from ..slosh_response import contents_response, first_mode
-from .coupled import COUPLING, FLUID, MOTION, START_GRID
-from .coupled_fill import START_TOLERANCE
-from .slosh_limp import LimpWindows  # noqa: F401  (registers "limp", the default, first)
-from .slosh_diaphragm import DiaphragmWindows  # noqa: F401  (registers "diaphragm")
-from .slosh_linear import LinearWindows  # noqa: F401  (registers "linear")
-from .slosh_surfaces import SURFACES, Contents, Start
+from fsi.io.checkpoint import CheckpointDue, write as write_checkpoint
+from fsi.slosh.lateral_compliance import first_mode_bound, modal_compliance
+from fsi.lifecycle import Progress, Run, RunResult, stack
+from fsi.setup.models import XPBD_COURANT_FRACTION, XPBD_DYNAMIC_SWEEPS
+from fsi.setup.motion import body_acceleration, tank_acceleration
+from fsi.registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
+from fsi.slosh.analysis import stokes_layer
+from fsi.slosh.response import contents_response, first_mode
+from fsi.procedures.coupled import COUPLING, FLUID, MOTION, START_GRID
+from fsi.procedures.coupled_fill import START_TOLERANCE
+from fsi.procedures.slosh_limp import LimpWindows  # noqa: F401  (registers "limp", the default, first)
+from fsi.procedures.slosh_diaphragm import DiaphragmWindows  # noqa: F401  (registers "diaphragm")
+from fsi.procedures.slosh_linear import LinearWindows  # noqa: F401  (registers "linear")
+from fsi.procedures.slosh_surfaces import SURFACES, Contents, Start
 
 log = logging.getLogger(__name__)
 
@@ -188,7 +188,7 @@ def slosh(setup, progress: Progress) -> RunResult:
 
 def run_windows(setup, run: Run, start: Start, body, window: float, n_windows: int):
     """The surface model's windows (:data:`SURFACES`), from ``setup.resume`` when given,
-    writing checkpoints to ``setup.checkpoint`` (:mod:`fsi.checkpoint`). Returns the
+    writing checkpoints to ``setup.checkpoint`` (:mod:`fsi.io.checkpoint`). Returns the
     surface's data and the :class:`Contents`; the windows' records are in ``run``."""
     table = setup.scene["slosh"]
     if setup.resume is not None:
@@ -206,7 +206,7 @@ def run_windows(setup, run: Run, start: Start, body, window: float, n_windows: i
 
 
 def stokes_attrs(scene, radius: float, omega: float) -> dict:
-    """The first mode's wall boundary layer (:func:`fsi.slosh_analysis.stokes_layer`, m) and
+    """The first mode's wall boundary layer (:func:`fsi.slosh.analysis.stokes_layer`, m) and
     its thickness in cells of the liquid's grid: a fitted zeta holds the wall's viscous
     damping only where the grid resolves that layer (README, 'Slosh with the diaphragm')."""
     h = tank_spacing(radius, scene["fluid"]["cells"], axisymmetric=False)
@@ -229,7 +229,7 @@ def _zeta_origin(a: dict) -> str:
 
 
 def compliance_attrs(contents: Contents, attrs: dict) -> dict:
-    """The start's static lateral compliance (:mod:`fsi.lateral_compliance`), the first-mode
+    """The start's static lateral compliance (:mod:`fsi.slosh.lateral_compliance`), the first-mode
     bound it sets and, with fitted slosh masses, the modes' own sum_n m_n / (M omega_n^2)."""
     c = contents.compliance
     omega_bound = first_mode_bound(c.compliance)

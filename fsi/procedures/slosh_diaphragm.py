@@ -7,17 +7,17 @@ coupled in time.
   lands in does not depend on the window: at 1 / 2 / 4 ms it stored 3.10 / 3.07 / 3.20 J
   when relaxed at each window's substep, 3.1006 / 3.1009 / 3.1011 J this way, N = 10), or,
   with ``slosh.start_grid`` = N0, the grid N0's start carried here and polished
-  (:mod:`fsi.carried_start`), then settled at the windows' substep and sweeps so that it is
+  (:mod:`fsi.setup.carried_start`), then settled at the windows' substep and sweeps so that it is
   at rest under them;
   the port is shut, so the membrane holds that volume throughout and the multiplier of the
-  volume is the uniform pressure level (:mod:`fsi.adapters`). Its static lateral
+  volume is the uniform pressure level (:mod:`fsi.coupled.adapters`). Its static lateral
   compliance comes from two more solves by the same XPBD settings, under b = (+-0.05, 0, -g)
   m/s^2 (:func:`start_compliance`).
 * Structure: XPBD windows, substeps of ``slosh.substep_fraction`` of the explicit limit,
   ``slosh.constraint_sweeps`` Gauss-Seidel sweeps of the constraints per substep;
   the membrane feels the body acceleration g - a(t) of the moving tank.
 * Liquid: the moving-wall projection step on the 3-D grid under the membrane closed by a can
-  (:class:`fsi.adapters.MembraneSurface`), no ports.
+  (:class:`fsi.coupled.adapters.MembraneSurface`), no ports.
 * Coupling: the scene's ``[coupling]`` table, membrane first, liquid second.
 
 The contents are liquid and membrane: the momentum, angular momentum and mass that the
@@ -44,17 +44,17 @@ from structure.hyperelastic import svk_energy_and_gradient
 from structure.volume import liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
-from ..adapters import PRESSURE, MembraneParticipant, MembraneSurface
-from ..carried_start import carried_start, carries, xpbd_settle
-from ..lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
-                                  static_compliance)
-from ..lifecycle import Run
-from ..models import hydrostatic_load, statics_substep
-from .coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity, check_start_grid,
-                      coupling_settings, fluid_convection, fluid_participant, membrane_surface,
-                      window_substep)
-from .coupled_fill import START_MAX_STEPS, static_equilibrium
-from .slosh_surfaces import Contents, SurfaceWindows, register_surface
+from fsi.coupled.adapters import PRESSURE, MembraneParticipant, MembraneSurface
+from fsi.setup.carried_start import carried_start, carries, xpbd_settle
+from fsi.slosh.lateral_compliance import (DEFAULT_TILT, Compliance, contents_centre,
+                                          static_compliance)
+from fsi.lifecycle import Run
+from fsi.setup.models import hydrostatic_load, statics_substep
+from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity, check_start_grid,
+                                    coupling_settings, fluid_convection, fluid_participant,
+                                    membrane_surface, window_substep)
+from fsi.procedures.coupled_fill import START_MAX_STEPS, static_equilibrium
+from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
 
 def elastic_energies(model: XpbdModel, node_position: np.ndarray) -> tuple[float, float]:
@@ -175,7 +175,7 @@ def _assemble(setup, body, run, window: float) -> _Parts:
 
 def start_compliance(setup, start: StaticStart, tilt: float = DEFAULT_TILT,
                      solve=None) -> Compliance:
-    """The static lateral compliance of the ``start`` (:mod:`fsi.lateral_compliance`): the
+    """The static lateral compliance of the ``start`` (:mod:`fsi.slosh.lateral_compliance`): the
     membrane's equilibria under b = (+-``tilt``, 0, -g) m/s^2 from the start's state, by
     ``solve(state, load)`` -> (state, Equilibrium) (the start's own XPBD settings when None),
     holding its liquid volume, its level (Pa) the guess."""

@@ -1,9 +1,9 @@
 """``slosh.surface = "limp"``: the limp diaphragm in a slosh run, i.e. the liquid's free
 surface.
 
-* Surface: a height surface over the fluid grid's columns (:class:`fsi.limp.HeightSurface`),
+* Surface: a height surface over the fluid grid's columns (:class:`fsi.slosh.limp.HeightSurface`),
   slack, massless and without bending, moved each window by the last liquid step's column
-  fluxes, the liquid volume held by a uniform shift (:func:`fsi.limp.advance_heights`).
+  fluxes, the liquid volume held by a uniform shift (:func:`fsi.slosh.limp.advance_heights`).
 * Liquid: one free-surface step on the 3-D grid under it per window
   (:mod:`fluid.free_surface`).
 * Per window, beside the liquid's measures: the surface's gravitational potential energy
@@ -21,12 +21,12 @@ from fluid.model import FluidModel
 from fluid.solver import FluidSolver
 from fluid.tank import tank_grid
 
-from ..lateral_compliance import Compliance, free_surface_compliance
-from ..limp import HeightSurface, advance_heights
-from ..lifecycle import Run
-from ..registry import SceneError
-from .coupled import FLUID, fluid_convection
-from .slosh_surfaces import Contents, Start, SurfaceWindows, register_surface
+from fsi.slosh.lateral_compliance import Compliance, free_surface_compliance
+from fsi.slosh.limp import HeightSurface, advance_heights
+from fsi.lifecycle import Run
+from fsi.registry import SceneError
+from fsi.procedures.coupled import FLUID, fluid_convection
+from fsi.procedures.slosh_surfaces import Contents, Start, SurfaceWindows, register_surface
 
 log = logging.getLogger(__name__)
 
@@ -61,7 +61,7 @@ class LimpWindows(SurfaceWindows):
     """The limp diaphragm's windows (module doc): the height surface and the free-surface
     liquid under it."""
 
-    #: the liquid step's interface condition (:data:`fluid.projection.STEPPERS`)
+    #: the liquid step's interface condition (:data:`fluid.steppers.STEPPERS`)
     interface_condition = "free"
 
     @classmethod

@@ -17,10 +17,10 @@ from __future__ import annotations
 
 from fluid.linear_surface import column_heights, surface_energy
 
-from ..lifecycle import Run
-from ..registry import SceneError
-from .slosh_limp import LimpWindows
-from .slosh_surfaces import register_surface
+from fsi.lifecycle import Run
+from fsi.registry import SceneError
+from fsi.procedures.slosh_limp import LimpWindows
+from fsi.procedures.slosh_surfaces import register_surface
 
 
 @register_surface("linear")

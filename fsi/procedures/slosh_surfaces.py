@@ -10,8 +10,8 @@ import numpy as np
 
 from fluid.container import SphericalTank
 
-from ..lateral_compliance import Compliance
-from ..lifecycle import Run
+from fsi.slosh.lateral_compliance import Compliance
+from fsi.lifecycle import Run
 
 #: slosh.surface -> the :class:`SurfaceWindows` of that surface model
 #: (:mod:`.slosh_limp`, :mod:`.slosh_linear`, :mod:`.slosh_diaphragm`)
@@ -28,7 +28,7 @@ to the end time)."""
 class Contents:
     """What the tank holds at the start: liquid volume (m^3), mass of the contents (kg,
     liquid and membrane), their centre of mass (3,) m and their static lateral compliance
-    (:class:`fsi.lateral_compliance.Compliance`, s^2)."""
+    (:class:`fsi.slosh.lateral_compliance.Compliance`, s^2)."""
 
     volume: float
     mass: float
@@ -50,7 +50,7 @@ class SurfaceWindows:
     n_windows)`` and records its ``windows`` record at t = 0 in the run, runs one window in
     :meth:`step` (recording the next) and gives the surface's data and the
     :class:`Contents` from :meth:`finish`. Pickled with the run's records it is a checkpoint
-    (:mod:`fsi.checkpoint`)."""
+    (:mod:`fsi.io.checkpoint`)."""
 
     def __init__(self, window: float, n_windows: int):
         self.window, self.n_windows = window, n_windows

@@ -8,9 +8,9 @@ import numpy as np
 from structure.statics import strain_error
 from structure.volume import FillScale
 
-from ..fill import FILL_SCALES, FullInversion
-from ..lifecycle import membrane_frame
-from ..registry import Key, Table, one_of, positive
+from fsi.setup.fill import FILL_SCALES, FullInversion
+from fsi.lifecycle import membrane_frame
+from fsi.registry import Key, Table, one_of, positive
 
 
 def _fills(v):

@@ -6,7 +6,7 @@ over ``end_time``, updated before each step, and the thesis stepper
 ``thesis.dt``; frames are recorded every ``frame_interval`` steps (group ``history``). Then, as
 App. J does, for each fill in ``sweep.fills`` the recorded frame whose volume is nearest
 fill x (volume of the last frame) is picked (group ``frames``). ``frames/fill_fraction`` is
-the fill on this project's scale (:mod:`fsi.fill`); ``frames/target_fill_fraction`` the App. J
+the fill on this project's scale (:mod:`fsi.setup.fill`); ``frames/target_fill_fraction`` the App. J
 target.
 """
 from __future__ import annotations
@@ -15,14 +15,15 @@ import numpy as np
 
 from structure.thesis import DAMPING_MODES, ThesisSettings, ThesisState, step
 
-from ..checkpoint import CheckpointDue, write as write_checkpoint
-from ..fill import check_first_step, full_inversion
-from ..limits import check_time_step, courant_time_step_limit
-from ..lifecycle import Progress, Run, RunResult, stack
-from ..models import hydrostatic_load
-from ..registry import (Key, Procedure, SceneError, Table, one_of, positive,
-                        register_procedure, short_number)
-from .static import RELAXATION, SWEEP, full_inversion_parts, report_sweep, static_frame
+from fsi.io.checkpoint import CheckpointDue, write as write_checkpoint
+from fsi.setup.fill import check_first_step, full_inversion
+from fsi.setup.limits import check_time_step, courant_time_step_limit
+from fsi.lifecycle import Progress, Run, RunResult, stack
+from fsi.setup.models import hydrostatic_load
+from fsi.registry import (Key, Procedure, SceneError, Table, one_of, positive,
+                          register_procedure, short_number)
+from fsi.procedures.static import (RELAXATION, SWEEP, full_inversion_parts, report_sweep,
+                                   static_frame)
 
 MAX_STEPS = 5e7
 """Steps of one ramp at most (end_time / dt)."""

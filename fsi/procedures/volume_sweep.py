@@ -2,10 +2,10 @@
 
 For each fill phi of ``sweep.fills`` in order, the membrane's equilibrium holding the liquid
 volume V(phi) on ``sweep.scale`` (the tank fraction: V = phi (4/3) pi R^3; the thesis's
-full-inversion scale: V = V_empty + phi (V_full - V_empty), :mod:`fsi.fill`) under the
+full-inversion scale: V = V_empty + phi (V_full - V_empty), :mod:`fsi.setup.fill`) under the
 hydrostatic load
 p = p_ref + rho b . x, the level p_ref its Lagrange multiplier, by the scene's structure model
-(:mod:`fsi.models`); each fill starts from the previous equilibrium (continuation). With
+(:mod:`fsi.setup.models`); each fill starts from the previous equilibrium (continuation). With
 ``sweep.drain`` the same fills are then run back down (group ``drain``).
 """
 from __future__ import annotations
@@ -17,12 +17,13 @@ import numpy as np
 
 from structure.model import MembraneState
 
-from ..fill import FILL_SCALES, check_first_step, check_reachable, full_inversion
-from ..limits import check_time_step, courant_time_step_limit
-from ..lifecycle import Progress, Run, RunResult
-from ..models import STRUCTURE_MODELS, hydrostatic_load
-from ..registry import Procedure, register_procedure
-from .static import RELAXATION, SWEEP, full_inversion_parts, report_sweep, static_frame
+from fsi.setup.fill import FILL_SCALES, check_first_step, check_reachable, full_inversion
+from fsi.setup.limits import check_time_step, courant_time_step_limit
+from fsi.lifecycle import Progress, Run, RunResult
+from fsi.setup.models import STRUCTURE_MODELS, hydrostatic_load
+from fsi.registry import Procedure, register_procedure
+from fsi.procedures.static import (RELAXATION, SWEEP, full_inversion_parts, report_sweep,
+                                   static_frame)
 
 log = logging.getLogger(__name__)
 

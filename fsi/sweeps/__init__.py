@@ -1,0 +1,1 @@
+"""The bundled sweeps, one TOML file each (`fsi sweeps` lists them)."""

@@ -35,7 +35,7 @@ from structure.statics import solve_equilibrium as thesis_solve
 from structure.xpbd import (XpbdDivergence, XpbdModel, XpbdSettings,
                             solve_equilibrium as xpbd_solve)
 
-from .limits import courant_time_step_limit
+from fsi.setup.limits import courant_time_step_limit
 
 log = logging.getLogger(__name__)
 
@@ -79,7 +79,7 @@ XPBD_RELAX = XpbdSettings(warm_start=False, tolerance=1e-5, max_steps=20_000)
 XPBD_POLISH = XpbdSettings(warm_start=True, max_steps=50_000)
 """Warm-started quasi-static substeps: the dt-independent equilibrium where they converge."""
 XPBD_COURANT_FRACTION = 0.3
-"""Substep as a fraction of the explicit limit of the pressure load (:mod:`fsi.limits`), per
+"""Substep as a fraction of the explicit limit of the pressure load (:mod:`fsi.setup.limits`), per
 grid: about 1 % stiffness bias (README); the statics' substep and the dynamics' default."""
 XPBD_DYNAMIC_SWEEPS = 64
 """Gauss-Seidel sweeps of the XPBD constraints per substep of a slosh run's diaphragm, its
@@ -158,7 +158,7 @@ MODEL_TABLE_FILE = "model_table.json"
 
 
 def _load_table() -> dict[str, dict[int, tuple[float, float, bool]]]:
-    path = resources.files("fsi").joinpath(MODEL_TABLE_FILE)
+    path = resources.files("fsi.setup").joinpath(MODEL_TABLE_FILE)
     if not path.is_file():
         return {}
     raw = json.loads(path.read_text())

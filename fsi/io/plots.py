@@ -26,7 +26,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .output import read_result  # noqa: E402
+from fsi.io.output import read_result  # noqa: E402
 
 
 def _middle_column(pos: np.ndarray, n: int) -> np.ndarray:

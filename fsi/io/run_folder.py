@@ -48,7 +48,7 @@ class RunFolder:
     def checkpoint(self) -> Path:
         """The newest checkpoint in a staging folder of ``out`` or in ``out`` itself
         (:class:`OutputError` when there is none)."""
-        from .checkpoint import CHECKPOINT_FILE
+        from fsi.io.checkpoint import CHECKPOINT_FILE
 
         parent = self.out.resolve().parent
         found = sorted(list(parent.glob(f"{STAGING_PREFIX}{self.out.name}-*/{CHECKPOINT_FILE}"))
@@ -93,7 +93,7 @@ class RunFolder:
         """Put the staged run in place of ``out`` (an earlier one removed); returns ``out``.
         Its checkpoint is removed unless ``keep_checkpoint`` (a run stopped by a signal:
         where it wrote none since it was resumed from DIR's, that one is kept)."""
-        from .checkpoint import CHECKPOINT_FILE
+        from fsi.io.checkpoint import CHECKPOINT_FILE
 
         staged = self.stage() / CHECKPOINT_FILE
         if not keep_checkpoint:

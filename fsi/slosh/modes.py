@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from .slosh_analysis import (MIN_PERIODS, ZETA_BOUNDS, block_size, checked_time,
-                             pencil_poles, record_window)
+from fsi.slosh.analysis import (MIN_PERIODS, ZETA_BOUNDS, block_size, checked_time,
+                                pencil_poles, record_window)
 
 MODE_MIN_FRACTION = 0.2
 """A pole is a mode when its amplitude (over the channels) is at least this fraction of the

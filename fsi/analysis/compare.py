@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import griddata
 
-from .constants import EQN_6_1_CENTRE_FRACTION
+from fsi.constants import EQN_6_1_CENTRE_FRACTION
 
 
 def node_areas(points: np.ndarray, faces: np.ndarray) -> np.ndarray:

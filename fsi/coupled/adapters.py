@@ -24,7 +24,7 @@ from structure.model import MembraneState
 from structure.xpbd import WINDOW_SCHEMES, XpbdDivergence, XpbdModel, XpbdSettings, \
     quasi_static_step
 
-from .pressure_maps import node_fit
+from fsi.coupled.pressure_maps import node_fit
 
 CENTRE_CELLS = ("iteration", "window")
 """``fluid.centre_cells``: which cells carry the liquid's velocity in a coupling window's
@@ -61,7 +61,7 @@ class FluidParticipant:
     fluid's interface (:class:`MembraneSurface`; default: the solver's interface moved to
     them); pressure is returned at the partner's points only, by ``pressure_map``
     (``map(solver, surface, level, cell_weight) -> (n,) Pa``,
-    :data:`fsi.pressure_maps.PRESSURE_MAPS`; default: the fit at each node), from the cells
+    :data:`fsi.coupled.pressure_maps.PRESSURE_MAPS`; default: the fit at each node), from the cells
     that ``pressure_cells`` picks (a name in :data:`fluid.sampling.CELL_WEIGHTS`: chosen at
     every iteration, or at the window's start, when :meth:`store_checkpoint` records the
     liquid fraction); ``centre_cells`` (:data:`CENTRE_CELLS`): which cells carry the liquid's

@@ -26,8 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .constants import HALF_SPHERE_LAMBDA1
-from .motion import tank_acceleration
+from fsi.constants import HALF_SPHERE_LAMBDA1
+from fsi.setup.motion import tank_acceleration
 
 REGIME_TABLE_FILE = Path(__file__).with_name("regime_table.json")
 LATERAL_SAMPLES = 2001

@@ -22,7 +22,7 @@ import numpy as np
 from fluid.hydrostatic import HydrostaticLiquid
 from structure.model import MembraneModel
 
-from .registry import SceneError
+from fsi.registry import SceneError
 
 
 BYTES_PER_NODE = 2048

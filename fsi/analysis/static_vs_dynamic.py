@@ -4,7 +4,7 @@ membrane model and grid, at the same tank fraction V / (4/3 pi R^3).
 At each tank fraction asked for, the dynamic run's frame nearest to it and the static
 sweep's frame nearest to it are compared by
 
-* the shape, thesis Eqn 6.1 (%), the static frame as reference (:mod:`fsi.compare`);
+* the shape, thesis Eqn 6.1 (%), the static frame as reference (:mod:`fsi.analysis.compare`);
 * the pressure level, dynamic minus static (Pa, the uniform level at the tank centre);
 * the liquid's centre of mass, the distance between the two (mm), from the membrane's
   enclosed volume and first moment (:func:`structure.volume.liquid_first_moment`).
@@ -32,7 +32,7 @@ from structure.model import MembraneModel
 from structure.volume import liquid_first_moment, liquid_volume, tank_volume
 from structure.xpbd import XpbdModel
 
-from .compare import eqn_6_1_error
+from fsi.analysis.compare import eqn_6_1_error
 
 PAIRING_TOLERANCE = 0.01
 """Frames whose tank fractions are further apart than this are not the same fill (-)."""
@@ -83,7 +83,7 @@ def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
     ``fill`` the frame's tank fraction, with ``static_converged``."""
     from structure.model import MembraneState
 
-    from .procedures.coupled_fill import membrane_settings, static_equilibrium, static_start
+    from fsi.procedures.coupled_fill import membrane_settings, static_equilibrium, static_start
 
     model = XpbdModel.from_membrane(setup.model)
     settings = membrane_settings(setup)
@@ -138,15 +138,15 @@ def flow_case(flow: float, ramp_time: float, time_scheme: str, lateral: float = 
     ``time_scheme`` (TIME_SCHEME_KEYS), a lateral impulse of peak ``lateral`` (m/s^2) along x
     when not zero, ``changes`` to any other keys; every frame against the static path
     (:func:`against_static`, from each frame's shape, and along the static path). Returns
-    the case's keys, its :class:`fsi.regime.Regime` numbers, rows, the largest difference
+    the case's keys, its :class:`fsi.analysis.regime.Regime` numbers, rows, the largest difference
     of each measure over the frames (``path_``: against the static path), wall seconds,
     failure ('' when none) and explicit windows."""
     import time
 
-    from .build import build
-    from .procedures import PROCEDURES
-    from .regime import regime
-    from .scene import load_scene
+    from fsi.setup.build import build
+    from fsi.procedures import PROCEDURES
+    from fsi.analysis.regime import regime
+    from fsi.scene import load_scene
 
     radius = load_scene(base)["tank"]["radius"]
     end_time = 0.5 * ramp_time + fill_step * 4.0 / 3.0 * np.pi * radius**3 / flow

@@ -21,8 +21,8 @@ from structure.prolongation import prolong
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium
 from structure.xpbd import solve_equilibrium as xpbd_equilibrium
 
-from .build import build
-from .models import hydrostatic_load
+from fsi.setup.build import build
+from fsi.setup.models import hydrostatic_load
 
 log = logging.getLogger(__name__)
 

@@ -1,5 +1,5 @@
 """What the tank feels from a slosh record: force, moment and centre of mass from the liquid's
-momentum, and the first mode's analysis (:mod:`fsi.slosh_analysis`).
+momentum, and the first mode's analysis (:mod:`fsi.slosh.analysis`).
 
 For the contents of mass M in the tank frame, with body acceleration b(t) = g - a(t),
 momentum P(t) and angular momentum L(t) about the tank centre (:mod:`fluid.measures`):
@@ -19,8 +19,8 @@ from dataclasses import asdict
 
 import numpy as np
 
-from .slosh_analysis import equivalent_model
-from .slosh_modes import fit_modes
+from fsi.slosh.analysis import equivalent_model
+from fsi.slosh.modes import fit_modes
 
 log = logging.getLogger(__name__)
 
@@ -49,8 +49,8 @@ def first_mode(time: np.ndarray, acceleration_x: np.ndarray, centre: np.ndarray,
                force_x: np.ndarray, moment_y: np.ndarray, mass: float, centre_height: float,
                gravity: float, radius: float, start: float) -> dict:
     """The lateral modes from a free decay after ``start`` (s): the fit of the centre of
-    mass's x and y, ``centre`` (n, 2) m (or (n,) for x alone; :func:`fsi.slosh_modes.fit_modes`),
-    the first mode's (the lowest slosh mode, :attr:`fsi.slosh_modes.ModeFit.first`) frequency,
+    mass's x and y, ``centre`` (n, 2) m (or (n,) for x alone; :func:`fsi.slosh.modes.fit_modes`),
+    the first mode's (the lowest slosh mode, :attr:`fsi.slosh.modes.ModeFit.first`) frequency,
     damping ratio, their standard errors and
     lambda1 = omega^2 R / g, every mode's as ``mode_*`` arrays (ascending frequency, with
     its direction from x in degrees and its x slosh mass), and the spring-mass equivalent

@@ -6,7 +6,7 @@ Layout of ``fsi sweep SWEEP --out DIR``::
     DIR/cases/NAME.toml         each case's scene (the base scene with its keys set)
     DIR/cases/NAME/             each case's result folder, written atomically by ``fsi run``
     DIR/cases.jsonl             one line per case run: name, exit status, reason, seconds
-    DIR/sweep.nc, DIR/plots/    the combined dataset and its plots (:mod:`fsi.sweep_data`)
+    DIR/sweep.nc, DIR/plots/    the combined dataset and its plots (:mod:`fsi.sweep.data`)
 
 Cases run on a ``LocalCluster`` sized to the machine (one worker process per core, one
 thread and one case at a time each, the memory available now shared between them) or, with
@@ -26,8 +26,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .run_folder import STAGING_PREFIX, OutputError
-from .sweep_file import Case, Sweep
+from fsi.io.run_folder import STAGING_PREFIX, OutputError
+from fsi.sweep.file import Case, Sweep
 
 log = logging.getLogger(__name__)
 
@@ -48,8 +48,8 @@ def run_case(scene_file: str, folder: str, plots: bool = False) -> dict:
     import contextlib
     import io
 
-    from .checkpoint import CHECKPOINT_FILE
-    from .run_job import guarded, run
+    from fsi.io.checkpoint import CHECKPOINT_FILE
+    from fsi.run_job import guarded, run
 
     out = Path(folder)
     stale = sorted(out.parent.glob(f"{STAGING_PREFIX}{out.name}-*"),
@@ -147,7 +147,7 @@ def local_cluster(workers: int | None, cases: int):
     import dask
     from dask.distributed import LocalCluster
 
-    from .limits import available_memory
+    from fsi.setup.limits import available_memory
 
     n = max(1, min(workers or os.cpu_count() or 1, cases))
     memory = available_memory()
@@ -193,7 +193,7 @@ def run_sweep(sweep: Sweep, out, client=None, scheduler: str | None = None,
     """Run the sweep's unfinished cases (module doc) on ``client``, a cluster at
     ``scheduler``, or a new :func:`local_cluster` of ``workers``; returns the
     :class:`SweepOutcome`. ``progress``: ``start(to run, skipped)`` once, ``done(case,
-    record)`` per case. The combined dataset is :func:`fsi.sweep_data.collect`'s."""
+    record)`` per case. The combined dataset is :func:`fsi.sweep.data.collect`'s."""
     from dask.distributed import Client
 
     t0 = time.perf_counter()
@@ -229,7 +229,7 @@ def connect(client_class, scheduler: str | None, cluster):
     a :class:`fsi.run_job.UsageError` naming --scheduler)."""
     if not scheduler:
         return client_class(cluster)
-    from .run_job import UsageError
+    from fsi.run_job import UsageError
 
     try:  # not the default client: one that never connected would stay the process's
         # default, and xarray's writes would then ask it for a lock (sweep_data.write)

@@ -4,7 +4,7 @@
 A coupled fill with ``dynamics.checkpoint_interval`` = n > 0 writes, every n windows (and
 with ``dynamics.checkpoint_seconds`` = T > 0 whenever T seconds of wall time have passed
 since the last),
-``checkpoint.pkl`` into the run's staging folder (:mod:`fsi.run_folder`): both participants
+``checkpoint.pkl`` into the run's staging folder (:mod:`fsi.io.run_folder`): both participants
 (membrane state and history, the liquid's fields and solver), the coupling loop (the
 acceleration's memory, past windows' fields, time, window size), the window controller and
 the records so far. ``fsi run SCENE --out DIR --resume`` finds the newest staging folder of

@@ -6,7 +6,7 @@ The liquid has one pressure per cut cell. A map turns the cells' pressure into t
 the membrane reads, without the uniform level's part that the caller adds. Each is a
 function ``map(solver, surface, level, cell_weight=None) -> (n,) Pa`` of the fluid solver
 (:class:`fluid.solver.FluidSolver`, its interface the membrane's closed surface) and the
-:class:`fsi.adapters.MembraneSurface`, fitting from the cells of ``cell_weight``
+:class:`fsi.coupled.adapters.MembraneSurface`, fitting from the cells of ``cell_weight``
 (:data:`fluid.sampling.CELL_WEIGHTS`; None: the liquid fraction where it is at least
 :data:`fluid.sampling.MIN_FRACTION`):
 

@@ -37,10 +37,10 @@ from structure.statics import solve_equilibrium
 from structure.thesis import CourantError
 from structure.volume import FillScale, liquid_volume, mirrored_rest_position
 
-from .build import Setup
-from .models import hydrostatic_load
-from .registry import SceneError
-from .registry import SceneError
+from fsi.setup.build import Setup
+from fsi.setup.models import hydrostatic_load
+from fsi.registry import SceneError
+from fsi.registry import SceneError
 
 log = logging.getLogger(__name__)
 
@@ -110,7 +110,7 @@ def check_first_step(setup: Setup) -> None:
     ``relaxation.dt`` and ``membrane.grid_size``. One step, run before anything is written:
     the mirrored start's first projection moves nodes about 0.8 of their length whatever the
     step (0.80 / 0.90 / 1.03 at N = 26 / 100 / 400, dt = 2e-4 s), so the load's Courant
-    number (:func:`fsi.limits.courant_time_step_limit`) alone does not predict it."""
+    number (:func:`fsi.setup.limits.courant_time_step_limit`) alone does not predict it."""
     model = setup.model
     try:
         solve_equilibrium(model, MembraneState(inverted_start(model)), _full_load(setup),

@@ -1,7 +1,7 @@
 """A sweep's combined dataset: every case's scalar results indexed by the swept keys, as an
 xarray Dataset in DIR/sweep.nc (netCDF-4, written through h5netcdf), and its plots.
 
-Dimensions are the sweep's axes (:class:`fsi.sweep_file.Axis`): one per ``[vary]`` key, named
+Dimensions are the sweep's axes (:class:`fsi.sweep.file.Axis`): one per ``[vary]`` key, named
 by the key, whose coordinate is its values; one per ``[zip.NAME]`` table, named NAME, with a
 coordinate per key. Variables (one value per case, NaN where a case has none):
 
@@ -31,10 +31,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .compare import eqn_6_1_error
-from .output import read_result, software_version, units_of
-from .sweep_file import Sweep
-from .sweep_run import CASES_DIR, case_records, finished
+from fsi.analysis.compare import eqn_6_1_error
+from fsi.io.output import read_result, software_version, units_of
+from fsi.sweep.file import Sweep
+from fsi.sweep.run import CASES_DIR, case_records, finished
 
 log = logging.getLogger(__name__)
 
@@ -61,7 +61,7 @@ def scalars(attrs: dict) -> dict:
 
 def key_doc(key: str) -> str:
     """The scene key reference's text of ``key`` ('section.name'; units in it)."""
-    from .scene import SCHEMA
+    from fsi.scene import SCHEMA
 
     section, _, name = key.partition(".")
     return SCHEMA[section][name].doc
@@ -152,7 +152,7 @@ def fill_variables(sweep: Sweep, results: dict) -> tuple:
 
 def shape_error(reference: dict, result: dict, frame: int) -> float:
     """Eqn 6.1 (%) of ``result``'s shape at ``frame`` against ``reference``'s frame nearest
-    in tank fraction (:func:`fsi.compare.eqn_6_1_error`)."""
+    in tank fraction (:func:`fsi.analysis.compare.eqn_6_1_error`)."""
     tank = result["frames"]["tank_fraction"][frame]
     j = int(np.argmin(np.abs(reference["frames"]["tank_fraction"] - tank)))
     return eqn_6_1_error(reference["frames"]["node_position"][j],

@@ -1,6 +1,6 @@
 """Result files: ``result.h5`` (h5py) and an XDMF time series (meshio) for ParaView.
 
-Layout of ``result.h5`` (documented in README):
+Layout of ``result.h5`` (the documentation's output table is :func:`reference_markdown`):
 
     attrs: scene (TOML text), scene_name, procedure, plus run facts (volumes in m^3, seconds)
     /membrane/rest_position   (n_nodes, 3) float64, m
@@ -14,10 +14,7 @@ Layout of ``result.h5`` (documented in README):
     /<group>/wall_seconds     (n_frames,) s
     ... and the other per-frame datasets a procedure records (each with a ``units`` attribute).
 
-Group ``frames`` is the main sequence (filling, the thesis frames picked by volume, the
-coupled-fill frames in time, or a slosh run's surface heights in time); ``drain`` the
-draining sweep; ``history`` every recorded thesis-ramp frame; ``windows`` every window of a
-coupled-fill or slosh run; ``surface`` a slosh run's height-surface nodes. The XDMF series
+The groups are :data:`GROUPS`. The XDMF series
 (membrane frames only) is stamped with ``frames/time`` where there is one, else with the fill
 fraction.
 
@@ -70,6 +67,36 @@ ATTR_UNITS = {
 UNIT_SUFFIXES = {"_std": None, "_height": "m", "_mass": "kg", "_hz": "Hz", "_seconds": "s",
                  "_volume": "m^3"}
 """Units by the name's ending (``_std``: the units of the name without it)."""
+
+
+GROUPS = {
+    "membrane": "the membrane's rest shape and topology (rest_position, face_nodes, fixed)",
+    "frames": "the main sequence: the fill, the thesis frames picked by volume, the coupled "
+              "fill's frames in time, or a slosh run's surface heights in time",
+    "drain": "a static sweep's draining leg",
+    "history": "every recorded thesis-ramp frame",
+    "windows": "every coupling window of a coupled-fill or slosh run",
+    "surface": "a slosh run's height-surface nodes",
+}
+"""Groups of ``result.h5`` -> what they hold."""
+
+
+def reference_markdown() -> str:
+    """The output reference (Markdown) generated from :data:`GROUPS`, :data:`UNITS`,
+    :data:`ATTR_UNITS`, :data:`UNIT_PREFIXES` and :data:`UNIT_SUFFIXES`: the groups, the
+    per-frame datasets with their units, the run facts (attributes) with theirs, and the rules
+    by name."""
+    def table(head, rows):
+        return "\n".join([f"| {head[0]} | {head[1]} |", "|---|---|"]
+                         + [f"| `{a}` | {b} |" for a, b in rows])
+    suffixes = [(f"*{s}", u if u is not None else "the units of the name without it")
+                for s, u in UNIT_SUFFIXES.items()]
+    prefixes = [(f"{s}*", u) for s, u in UNIT_PREFIXES.items()]
+    return "\n\n".join([
+        table(("group", "holds"), GROUPS.items()),
+        table(("dataset", "units"), sorted(UNITS.items())),
+        table(("attribute", "units"), sorted(ATTR_UNITS.items())),
+        table(("name pattern", "units"), prefixes + suffixes)])
 
 
 def units_of(name: str) -> str:

@@ -21,7 +21,7 @@
 
 Keys are scene keys ``table.key`` (TOML dotted keys). A vector key (e.g.
 ``motion.amplitude``) varies over a list of vectors. Every case's scene is built and checked
-as ``fsi run`` would (:func:`fsi.build.build`) before anything runs: a bad combination is one
+as ``fsi run`` would (:func:`fsi.setup.build.build`) before anything runs: a bad combination is one
 :class:`SweepError` naming its key and value.
 """
 from __future__ import annotations
@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .registry import SceneError
+from fsi.registry import SceneError
 
 SWEEP_TABLES = ("sweep", "set", "vary", "zip")
 SWEEP_KEYS = ("name", "description", "scene", "plot", "reference")
@@ -201,7 +201,7 @@ def reference_case(sweep: Sweep, keys, source: str) -> str:
 def build_cases(sweep: Sweep) -> list[Case]:
     """Every combination of the axes as a :class:`Case` whose scene is the base scene with
     the fixed and the case's keys set, each built and checked as ``fsi run`` would."""
-    from .scene import load_scene
+    from fsi.scene import load_scene
 
     base = tomllib.loads(load_scene(sweep.scene).text)
     short = short_names([k for a in sweep.axes for k in a.values])
@@ -248,8 +248,8 @@ def case_scene(base: dict, keys: dict, sweep_name: str, name: str) -> str:
 def check_case(case: Case) -> None:
     """Build the case's scene as ``fsi run`` would; :class:`SweepError` naming the case's
     keys and the scene's complaint."""
-    from .build import build
-    from .scene import parse_scene
+    from fsi.setup.build import build
+    from fsi.scene import parse_scene
 
     try:
         build(parse_scene(case.scene_text, case.name))
@@ -275,7 +275,7 @@ def load_sweep(name_or_path: str) -> Sweep:
     """A sweep file by path, or a bundled sweep by name, parsed and every case checked."""
     path = Path(name_or_path)
     if path.is_file():
-        from .scene import read_text
+        from fsi.scene import read_text
 
         return parse_sweep(read_text(path), str(path), path.resolve().parent)
     if name_or_path not in bundled_sweeps():

@@ -16,9 +16,9 @@ from structure.model import MEMBRANE_SHAPES, Material, MembraneModel
 from structure.statics import RelaxationSettings
 from structure.thesis import ConstraintSettings
 
-from .limits import check_memory
-from .models import choose_model
-from .registry import PROCEDURES, Procedure, SceneError
+from fsi.setup.limits import check_memory
+from fsi.setup.models import choose_model
+from fsi.registry import PROCEDURES, Procedure, SceneError
 
 
 @dataclass(frozen=True)
@@ -35,7 +35,7 @@ class Setup:
     checkpoint: Optional[Path] = None
     """Where a time-dependent procedure writes its checkpoints (None: it does not)."""
     resume: Optional[dict] = None
-    """A checkpoint's payload to continue from (:mod:`fsi.checkpoint`), or None."""
+    """A checkpoint's payload to continue from (:mod:`fsi.io.checkpoint`), or None."""
 
     @property
     def procedure(self) -> Procedure:

@@ -404,7 +404,7 @@ def equivalent_model(time, acceleration, force_x, moment_y, total_mass: float,
     acceleration along x; ``force_x`` F_x (n,) N and ``moment_y`` M_y (n,) N m the contents'
     force on the tank and its moment about the tank centre; ``total_mass`` (kg) > 0;
     ``centre_height`` (m) z of the contents' centre of mass at rest; ``gravity`` g (m/s^2)
-    > 0; ``fit`` the first mode (a :class:`DecayFit` or :class:`fsi.slosh_modes.Mode`: its
+    > 0; ``fit`` the first mode (a :class:`DecayFit` or :class:`fsi.slosh.modes.Mode`: its
     omega and zeta are used); ``others`` further modes of the same record, each with its
     own slosh mass (SP-106's m_n) regressed together with the first.
 

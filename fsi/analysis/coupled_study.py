@@ -47,11 +47,11 @@ import numpy as np
 
 from structure.volume import liquid_first_moment, liquid_volume
 
-from .build import build
-from .compare import eqn_6_1_error
-from .extrapolation import observed_order
-from .procedures import PROCEDURES
-from .scene import load_scene
+from fsi.setup.build import build
+from fsi.analysis.compare import eqn_6_1_error
+from fsi.analysis.extrapolation import observed_order
+from fsi.procedures import PROCEDURES
+from fsi.scene import load_scene
 
 THESIS_FSI_SECONDS = 4 * 7 * 24 * 3600.0
 """The thesis's coupled Fluent-Transient Structural run: 4+ weeks, not finished (s)."""
