@@ -18,6 +18,7 @@ too fast for the membrane to follow). The full-inversion static solve that ``the
 makes is skipped: the fill here is on the geometric scale, not on the project's fill scale.
 
 Measured per point:
+
 - inverted_fraction (-): fill on the geometric scale :meth:`structure.volume.FillScale.mirrored`,
   (V - V_rest) / (V_mirrored - V_rest), V the liquid volume (m^3) at the end of the hold
   (``ramp_end_fraction``: the same at the end of the ramp). 1 = the rest shape mirrored through

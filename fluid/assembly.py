@@ -9,7 +9,7 @@ components (on the axisymmetric grid u_r adds mu / r^2 on the diagonal); only th
 sides differ.
 
 Per inner face f between cells P (FiPy's first cell) and N, with area A, centre distance d and
-F = (rho u_f beta) A along FiPy's normal (P -> N), in FiPy's convention (rows of L x = b):
+F = (rho u_f beta) A along FiPy's normal (P -> N), in FiPy's convention (rows of L x = b)::
 
     momentum, upwind (alpha = 1 if F > 0):  L_PP += alpha F + k,  L_PN += (1 - alpha) F - k,
                                             L_NN += (alpha - 1) F + k,  L_NP += -alpha F - k,

@@ -3,7 +3,7 @@
 Linear slosh theory (the theory of the closed forms a slosh code is checked against: Lamb's
 cylinder, Budiansky's sphere, the free-surface elements of NASTRAN's demo problem d03031a)
 keeps the liquid's region fixed at its rest shape and carries the surface's small
-displacement eta along the outward normal n as a field on the mean surface:
+displacement eta along the outward normal n as a field on the mean surface::
 
     d eta / dt = u . n                       (kinematic condition, linearised)
     p = 0 at x_s + eta n,  i.e.  p_red(x_s) = -rho b(t) . (x_s + eta n)

@@ -4,16 +4,20 @@ One step t -> t + dt, given the liquid geometry at t + dt (Van Kan 1986 incremen
 with Rhie-Chow face velocities on FiPy's collocated grid):
 
 1. momentum predictor, implicit (FiPy ``TransientTerm`` + upwind ``ConvectionTerm`` with the
-   face fluxes of step n + ``DiffusionTerm``), old reduced-pressure gradient explicit:
+   face fluxes of step n + ``DiffusionTerm``), old reduced-pressure gradient explicit::
+
        rho (u* - u^n)/dt + div(rho F u*) - rho (div F) u* = div(mu grad u*) - grad p^n
+
    [- mu u_r / r^2 on the axisymmetric grid]. Cells whose centre is outside the liquid are
    pinned to the wall velocity; a face between a liquid-centre cell P and a wall-centre cell
    carries mu / theta, theta = phi_P / (phi_P - phi_N) the wall's fractional distance from P
    (Shortley-Weller immersed Dirichlet condition, second order for the no-slip wall);
 2. face velocities u*_f = avg(u* + dt/rho grad_c p^n) - dt/rho grad_f p^n (Rhie-Chow);
 3. pressure correction on the cut cells (FiPy ``DiffusionTerm`` with face coefficient
-   beta dt/rho, beta = wetted face fraction):
+   beta dt/rho, beta = wetted face fraction)::
+
        sum_f beta A (u*_f - dt/rho grad_f dp) + (alpha^{n+1} - alpha^n) V / dt = 0
+
    i.e. every cell's liquid volume changes by exactly the flux through its wetted faces:
    moving-boundary face fluxes, no interface velocity needed for continuity;
 4. u_f = u*_f - dt/rho grad_f dp, u_c = u* - dt/rho grad_c dp, p^{n+1} = p^n + dp, where

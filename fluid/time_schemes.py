@@ -6,9 +6,11 @@ quantity y at t^{n+1} is written (y^{n+1} - y_old) / dt_eff, so the projection s
 old cell fractions and step replaced by y_old and dt_eff:
 
 * ``euler`` (backward Euler, first order): y_old = y^n, dt_eff = dt;
-* ``bdf2`` (second-order backward differences on a variable step, r = dt / dt_prev):
+* ``bdf2`` (second-order backward differences on a variable step, r = dt / dt_prev)::
+
       dy/dt(t^{n+1}) ~ [a0 y^{n+1} + a1 y^n + a2 y^{n-1}] / dt,
       a0 = (1 + 2r)/(1 + r), a1 = -(1 + r), a2 = r^2/(1 + r),
+
   so dt_eff = dt / a0 and y_old = -(a1 y^n + a2 y^{n-1}) / a0 (r = 1: (4 y^n - y^{n-1})/3,
   dt_eff = 2 dt/3). It applies to the momentum (cell and face velocities) and to the
   continuity equation's cell volumes alike (the geometric conservation law: with the

@@ -1,4 +1,4 @@
-"""The run lifecycle every procedure shares (as pyro2's simulations share one).
+"""The run lifecycle every procedure shares (as pyro2's simulations share one)::
 
     run = Run(progress, total, frame_interval)   # the clock starts
     run.frame_due(k)                             # frame cadence: every interval, and the last

@@ -46,29 +46,29 @@ class Material:
 class MembraneModel:
     """Fixed data of a structured N x N particle membrane.
 
-    Attributes (n = N*N nodes)
-    --------------------------
-    grid_size : N.
-    radius : tank / hemisphere radius (m) (disc radius for flat grids).
-    material : :class:`Material`.
-    node_rest_position : (n, 3) m.
-    node_mass : (n,) kg, rho t A_node (Eqn 4.3) with A_node of App. D at rest.
-    node_inv_mass : (n,) 1/kg, zero on fixed nodes.
-    node_fixed : (n,) bool.
-    node_length_scale : (n,) m, sqrt(A_node), the Courant length of Eqn 4.7.
-    face_nodes : (n_faces, 4) int64 quads.
-    spring_nodes : (m, 2) int64, in-plane springs, families concatenated in App. G order.
-    spring_rest_length : (m,) m.
-    spring_family_start : (5,) int64 offsets of the families in ``spring_nodes``.
-    bend_nodes : (b, 3) int64, (end, middle, end) node triples spanning two cells (App. E).
-    bend_rest_length : (b,) m, rest chord L_B between the two end nodes.
-    bend_family_start : (3,) int64 offsets of the x and y bending families.
-    bend_stiffness : (b,) N/m, K_eq = 48 E I / L_B^3 with I = L t^3 / 12, i.e. 4 E t^3 / L_B^2
-        (Eqns 4.8-4.10, App. F).
-    normal_sign : +1 or -1 so that node normals point from the liquid side (rest shape: the
-        outer, convex side) to the gas side (towards the sphere centre).
-    volume_sign : +1 or -1 so that the membrane's divergence-theorem volume term uses normals
-        pointing out of the liquid (see :mod:`structure.volume`).
+    Its attributes (n = N*N nodes):
+
+    * grid_size : N.
+    * radius : tank / hemisphere radius (m) (disc radius for flat grids).
+    * material : :class:`Material`.
+    * node_rest_position : (n, 3) m.
+    * node_mass : (n,) kg, rho t A_node (Eqn 4.3) with A_node of App. D at rest.
+    * node_inv_mass : (n,) 1/kg, zero on fixed nodes.
+    * node_fixed : (n,) bool.
+    * node_length_scale : (n,) m, sqrt(A_node), the Courant length of Eqn 4.7.
+    * face_nodes : (n_faces, 4) int64 quads.
+    * spring_nodes : (m, 2) int64, in-plane springs, families concatenated in App. G order.
+    * spring_rest_length : (m,) m.
+    * spring_family_start : (5,) int64 offsets of the families in ``spring_nodes``.
+    * bend_nodes : (b, 3) int64, (end, middle, end) node triples spanning two cells (App. E).
+    * bend_rest_length : (b,) m, rest chord L_B between the two end nodes.
+    * bend_family_start : (3,) int64 offsets of the x and y bending families.
+    * bend_stiffness : (b,) N/m, K_eq = 48 E I / L_B^3 with I = L t^3 / 12, i.e. 4 E t^3 / L_B^2
+      (Eqns 4.8-4.10, App. F).
+    * normal_sign : +1 or -1 so that node normals point from the liquid side (rest shape: the
+      outer, convex side) to the gas side (towards the sphere centre).
+    * volume_sign : +1 or -1 so that the membrane's divergence-theorem volume term uses normals
+      pointing out of the liquid (see :mod:`structure.volume`).
     """
 
     grid_size: int

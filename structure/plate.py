@@ -10,13 +10,17 @@ deflection w0 (m) and the profile w(r) by three estimates, each valid in its own
   w0 below about t / 5 (thesis Sec. 3.1.1).
 * ``large`` -- the plate with mid-surface stretching, by the energy method (Timoshenko &
   Woinowsky-Krieger Sec. 96; Roark's Formulas for Stress and Strain, 7th ed., Sec. 11.11,
-  circular plate fixed and held, uniform pressure):
+  circular plate fixed and held, uniform pressure)::
+
       q a^4 / (E t^4) = K1 (w0 / t) + K2 (w0 / t)^3,  K1 = 16 / (3 (1 - nu^2)),
       K2 = 2.6 / (1 - nu^2);
+
   the profile keeps the plate's shape w0 (1 - r^2 / a^2)^2.  The thesis (Sec. 3.1.1, after
   Eaton et al.) takes it as valid up to w0 of about 3 t.
-* ``hencky`` -- the membrane (no bending) with mid-surface stretching, Hencky (1915):
+* ``hencky`` -- the membrane (no bending) with mid-surface stretching, Hencky (1915)::
+
       w0 = c(nu) a (q a / (E t))^(1/3),
+
   c(nu) and the profile from the axisymmetric membrane equations, solved here by shooting
   (c(0.3) = 0.6534, Fichter, NASA TP-3658, 1997).  Valid once bending no longer matters,
   w0 many times t.

@@ -45,15 +45,15 @@ MEMBRANE_LAWS = ("saint-venant-kirchhoff", "neo-hookean")
 class ShellSettings:
     """Static solve settings.
 
-    law : one of MEMBRANE_LAWS (neo-Hookean takes mu = E / 3, incompressible);
-    bending : include the calibrated bending energy;
-    wall_stiffness : penalty stiffness of the tank wall per node (N/m);
-    volume_tolerance : |V - V*| / tank volume on the returned shape (-);
-    gradient_tolerance : L-BFGS stops when the largest free-node force is below this fraction
-        of the largest pressure force rho |b| R A_node (-);
-    fill_step : continuation: the volume target moves by at most this fraction of the tank
-        volume per constrained solve (-);
-    max_iterations : L-BFGS iterations per inner solve.
+    * law : one of MEMBRANE_LAWS (neo-Hookean takes mu = E / 3, incompressible);
+    * bending : include the calibrated bending energy;
+    * wall_stiffness : penalty stiffness of the tank wall per node (N/m);
+    * volume_tolerance : |V - V*| / tank volume on the returned shape (-);
+    * gradient_tolerance : L-BFGS stops when the largest free-node force is below this fraction
+      of the largest pressure force rho |b| R A_node (-);
+    * fill_step : continuation: the volume target moves by at most this fraction of the tank
+      volume per constrained solve (-);
+    * max_iterations : L-BFGS iterations per inner solve.
     """
 
     law: str = "saint-venant-kirchhoff"

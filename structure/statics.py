@@ -78,31 +78,31 @@ def _relaxation_constraints() -> ConstraintSettings:
 class RelaxationSettings:
     """Pseudo-time relaxation settings (defaults: the thesis scene, 26 x 26 grid).
 
-    dt : pseudo time step (s).
-    damping : fraction of the velocity removed per step (-), on top of kinetic damping.
-    kinetic_damping : zero all velocities when the kinetic energy stops growing.
-    tolerance : converged when max |dx| / L_node per step < tolerance (-).
-    level_tolerance : converged only when the level changes by less than this per step (Pa).
-    level_gain : fraction of the projection multiplier lambda / dt^2 added to the level (-).
-    volume_tolerance : |V - V_target| over the tank volume (4/3) pi R^3 allowed on the returned
-        shape (-).
-    ramp_rate : the volume target moves from the start volume to the goal by at most this
-        fraction of the tank volume (4/3) pi R^3 per step (-).
-    max_projection_move : the volume projection moves no node more than this times its length
-        scale per step (-).
-    max_steps : cap on pseudo-steps per solve.
-    strain_passes : App. G passes per step (-).
-    contact_tolerance : a node within contact_tolerance * R of the wall touches it (-).
-    offset_limited_bending : cap bending forces at K_eq times the chord offset (see module doc).
-    bend_limiting : apply App. H bend limiting (``constraints.bend_limit_iterations`` passes).
-    strain_limit_stage : under volume control, when the relaxed shape exceeds the strain limit,
-        relax again from it with ``stiff_strain_passes`` passes per step (App. G's stopping
-        rule, passes until the error is below the limit, makes nodes jump by cells there).
-    stiff_strain_passes : strain passes per step of that second stage.
-    constraints : :class:`ConstraintSettings`: wall_slack and gauss_seidel are used in every
-        step, error_limit and max_strain_passes by the finish, bend_limit_iterations only with
-        ``bend_limiting``, self_collision and collision_buffer (App. I after every strain
-        limiting, in the relaxation and in the finish).
+    * dt : pseudo time step (s).
+    * damping : fraction of the velocity removed per step (-), on top of kinetic damping.
+    * kinetic_damping : zero all velocities when the kinetic energy stops growing.
+    * tolerance : converged when max |dx| / L_node per step < tolerance (-).
+    * level_tolerance : converged only when the level changes by less than this per step (Pa).
+    * level_gain : fraction of the projection multiplier lambda / dt^2 added to the level (-).
+    * volume_tolerance : |V - V_target| over the tank volume (4/3) pi R^3 allowed on the returned
+      shape (-).
+    * ramp_rate : the volume target moves from the start volume to the goal by at most this
+      fraction of the tank volume (4/3) pi R^3 per step (-).
+    * max_projection_move : the volume projection moves no node more than this times its length
+      scale per step (-).
+    * max_steps : cap on pseudo-steps per solve.
+    * strain_passes : App. G passes per step (-).
+    * contact_tolerance : a node within contact_tolerance * R of the wall touches it (-).
+    * offset_limited_bending : cap bending forces at K_eq times the chord offset (see module doc).
+    * bend_limiting : apply App. H bend limiting (``constraints.bend_limit_iterations`` passes).
+    * strain_limit_stage : under volume control, when the relaxed shape exceeds the strain limit,
+      relax again from it with ``stiff_strain_passes`` passes per step (App. G's stopping
+      rule, passes until the error is below the limit, makes nodes jump by cells there).
+    * stiff_strain_passes : strain passes per step of that second stage.
+    * constraints : :class:`ConstraintSettings`: wall_slack and gauss_seidel are used in every
+      step, error_limit and max_strain_passes by the finish, bend_limit_iterations only with
+      ``bend_limiting``, self_collision and collision_buffer (App. I after every strain
+      limiting, in the relaxation and in the finish).
     """
 
     dt: float = 2e-4

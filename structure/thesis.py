@@ -1,6 +1,7 @@
 """The thesis stepper (Levine 2014, App. B main loop), faithfully.
 
 One step:
+
 1. node areas (App. D) and normals (surfnorm rule) on the current shape;
 2. forces, Eqn 4.6: F = F_bend + A p n + m g - c v (bending springs of App. F, pressure
    along node normals, gravity on free nodes, optional damping);
@@ -39,15 +40,15 @@ class CourantError(RuntimeError):
 class ConstraintSettings:
     """Position constraints applied after each integration step.
 
-    error_limit : in-plane strain limit as a fraction (thesis ErrorLimit/100).
-    bend_limit_iterations : App. H passes (thesis BendDamping); 0 switches bend limiting off.
-    self_collision : App. I self-collision on/off.
-    collision_buffer : collision distance as a fraction of the shortest rest edge (Cbuffer).
-    constraint_iterations : rounds of the constraint sequence per step.
-    wall_slack : a free node is put back on the tank wall when |x| > wall_slack * R (1.001).
-    max_strain_passes : cap on App. G passes per call.
-    gauss_seidel : relax springs one after another (True) instead of the thesis's Jacobi pass
-        per family (False); see :func:`structure.kernels._relax_family`.
+    * error_limit : in-plane strain limit as a fraction (thesis ErrorLimit/100).
+    * bend_limit_iterations : App. H passes (thesis BendDamping); 0 switches bend limiting off.
+    * self_collision : App. I self-collision on/off.
+    * collision_buffer : collision distance as a fraction of the shortest rest edge (Cbuffer).
+    * constraint_iterations : rounds of the constraint sequence per step.
+    * wall_slack : a free node is put back on the tank wall when |x| > wall_slack * R (1.001).
+    * max_strain_passes : cap on App. G passes per call.
+    * gauss_seidel : relax springs one after another (True) instead of the thesis's Jacobi pass
+      per family (False); see :func:`structure.kernels._relax_family`.
     """
 
     error_limit: float = 0.01

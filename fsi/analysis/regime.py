@@ -1,5 +1,5 @@
 """Which model a coupled scene needs: the two dimensionless numbers of a fill or drain through
-the port, and the measured static-against-dynamic differences they predict.
+the port, and the measured static-against-dynamic differences they predict::
 
     Pi_p = p_dyn / (rho g R)               dynamic over hydrostatic pressure
     p_dyn = rho u^2 / 2                    the port jet, u = Q / (pi r_p^2)

@@ -73,10 +73,13 @@ GROUPS = {
     "membrane": "the membrane's rest shape and topology (rest_position, face_nodes, fixed)",
     "frames": "the main sequence: the fill, the thesis frames picked by volume, the coupled "
               "fill's frames in time, or a slosh run's surface heights in time",
+    "full_inversion": "a static sweep's fully inverted equilibrium: 100 % of the thesis's fill "
+                      "scale",
     "drain": "a static sweep's draining leg",
     "history": "every recorded thesis-ramp frame",
     "windows": "every coupling window of a coupled-fill or slosh run",
     "surface": "a slosh run's height-surface nodes",
+    "plate": "the plate-estimate procedure's closed forms, one record per fill",
 }
 """Groups of ``result.h5`` -> what they hold."""
 

@@ -1,4 +1,4 @@
-"""The surface models of a slosh run (:mod:`.slosh`), a registry: each is a
+"""The surface models of a slosh run (:mod:`fsi.procedures.slosh`), a registry: each is a
 :class:`SurfaceWindows`, the window loop of one model of the diaphragm (:mod:`.slosh_limp`,
 :mod:`.slosh_diaphragm`), registered with :func:`register_surface`; and what they share with
 the procedure: the liquid's :class:`Start` and the :class:`Contents`."""

@@ -1,4 +1,4 @@
-"""Sweep files (TOML): a base scene and the scene keys to vary, expanded into cases.
+"""Sweep files (TOML): a base scene and the scene keys to vary, expanded into cases::
 
     [sweep]
     name = "slosh-by-fill"
