@@ -2,29 +2,33 @@
 case of :mod:`cases.added_mass` (model, theory and parameters in its docstring) swept over the
 mass ratio q = rho_f mu_max / (rho_s h).
 
-    python benchmarks/added_mass.py
+    python benchmarks/added_mass.py [--smoke]
 
 Writes ``benchmarks/output/added_mass_stability.png`` (constant-relaxation map against the
 bound omega_max, explicit growth per window, Aitken and IQN-ILS iterations) and prints one JSON
-object.
+object (also written to ``docs/data/added_mass.json``). ``--smoke``: two sampled mass ratios, a
+3 x 4 map, three explicit and two accelerated cases (the figure under
+``benchmarks/output/smoke/``, nothing in ``docs/data``).
 """
 from __future__ import annotations
 
-import json
+import argparse
 import logging
-import sys
 import time
 from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from cases.added_mass import (REFERENCE, Problem, accelerated_run, constant_map, explicit_run,
                               largest_stable_omega)
 
-OUTPUT = Path(__file__).resolve().parent / "output"
-FIGURE = OUTPUT / "added_mass_stability.png"
+FIGURE_NAME = "added_mass_stability.png"
 GOALS = {"omega_max_relative_difference": 0.10}
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("goals", "constant_map_cells", "constant_map_cells_contradicting_bound",
+              "accelerated", "per_mass_ratio", "seconds")
 
 
 def plot(problem, ratios, omegas, cmap_data, sampled, explicit, accelerated, path: Path):
@@ -95,15 +99,26 @@ def plot(problem, ratios, omegas, cmap_data, sampled, explicit, accelerated, pat
     plt.close(fig)
 
 
-def main() -> dict:
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
+    args = parser.parse_args(argv)
+    figure = output_dir(args.smoke) / FIGURE_NAME
     logging.getLogger("coupling").setLevel(logging.ERROR)  # the map accepts diverged windows
     t0 = time.perf_counter()
     problem = Problem()
-    sampled_q = np.geomspace(0.1, 100.0, 8)  # avoids q = 1, the explicit scheme's edge
-    map_q = np.geomspace(0.1, 100.0, 24)
-    omegas = np.arange(0.05, 1.2001, 0.05)
-    explicit_q = np.unique(np.concatenate([np.geomspace(0.1, 100.0, 24),
-                                           [0.9, 0.95, 1.05, 1.1]]))
+    if args.smoke:
+        sampled_q = np.array([0.5, 50.0])
+        map_q = np.geomspace(0.1, 100.0, 3)
+        omegas = np.array([0.05, 0.5, 1.0, 1.2])
+        explicit_q = np.array([0.5, 1.05, 10.0])
+    else:
+        sampled_q = np.geomspace(0.1, 100.0, 8)  # avoids q = 1, the explicit scheme's edge
+        map_q = np.geomspace(0.1, 100.0, 24)
+        omegas = np.arange(0.05, 1.2001, 0.05)
+        explicit_q = np.unique(np.concatenate([np.geomspace(0.1, 100.0, 24),
+                                               [0.9, 0.95, 1.05, 1.1]]))
+    accelerated_q = map_q[[0, -1]] if args.smoke else map_q
 
     sampled = []
     for q in sampled_q:
@@ -132,7 +147,8 @@ def main() -> dict:
                                                  > pq.explicit_critical_mass_ratio)})
 
     accelerated = {name: [{"mass_ratio": float(q),
-                           **accelerated_run(problem.with_mass_ratio(q), name)} for q in map_q]
+                           **accelerated_run(problem.with_mass_ratio(q), name)}
+                          for q in accelerated_q]
                    for name in ("aitken", "iqn-ils")}
 
     cmap_data = constant_map(problem, map_q, omegas)
@@ -141,7 +157,7 @@ def main() -> dict:
     contradictions = int(np.sum((cmap_data > 0) & (omegas[:, None] > bound))
                          + np.sum((cmap_data < 0) & (omegas[:, None] < 0.9 * bound)))
 
-    plot(problem, map_q, omegas, cmap_data, sampled, explicit, accelerated, FIGURE)
+    plot(problem, map_q, omegas, cmap_data, sampled, explicit, accelerated, figure)
 
     rel = [abs(s["relative_difference"]) for s in sampled]
     result = {
@@ -180,12 +196,12 @@ def main() -> dict:
             "aitken_converges_across_map": all(r["converged"] for r in accelerated["aitken"]),
             "iqn_ils_converges_across_map": all(r["converged"]
                                                 for r in accelerated["iqn-ils"])},
-        "figure": str(FIGURE.relative_to(Path(__file__).resolve().parents[1])),
+        "figure": str(figure.relative_to(Path(__file__).resolve().parents[1])),
         "seconds": round(time.perf_counter() - t0, 1),
     }
+    emit("added_mass", result, args.smoke, allow_nan=False)
     return result
 
 
 if __name__ == "__main__":
-    json.dump(main(), sys.stdout, indent=1, allow_nan=False)
-    print()
+    main()

@@ -1,6 +1,6 @@
 """Speed against accuracy of the coupled dynamic fill, by fluid grid.
 
-    python benchmarks/coupled_fill.py [--cells 16 24 32] [--windows 10]
+    python benchmarks/coupled_fill.py [--cells 16 24 32] [--windows 10] [--smoke]
 
 Runs the bundled ``diaphragm-fill`` scene (XPBD membrane N = 14, FiPy liquid, IQN-ILS,
 0.5 L/s ramped over 0.1 s, port stub 0.06 m x 0.065 m) for its first ``--windows`` windows of
@@ -15,23 +15,30 @@ with FiPy rebuilding its terms every step).
 Prints one JSON object and writes ``benchmarks/output/coupled_fill.png`` (level error against
 seconds per window, one point per grid). Anchor: the thesis's Fluent-Transient Structural run
 of this case did not finish in 4+ weeks; the JSON gives the seconds per simulated second.
+A full run's JSON also goes to ``docs/data/coupled_fill.json``. ``--smoke``: 16^3 and 20^3 for
+one window, the bundled scene for two (the figure under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import time
 from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from fsi.setup.build import build
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 
-OUTPUT = Path(__file__).resolve().parent / "output"
-FIGURE = OUTPUT / "coupled_fill.png"
+FIGURE_NAME = "coupled_fill.png"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("grids", "reference_cells", "bundled_scene", "bundled_anchor",
+              "goal_seconds_per_window")
+#: --smoke: the grids (the port stub needs 16^3 at least), their windows and the bundled
+#: scene's windows
+SMOKE_CELLS, SMOKE_WINDOWS, SMOKE_BUNDLED_WINDOWS = [16, 20], 1, 2
 
 
 #: the bundled scene before the direct assembly: seconds per window, coupling iterations
@@ -69,7 +76,7 @@ def run(cells: int | None, windows: int | None) -> dict:
                     / w["delivered_volume"][-1] - 1.0))
 
 
-def _plot(rows: list[dict]) -> None:
+def _plot(rows: list[dict], figure: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -86,9 +93,9 @@ def _plot(rows: list[dict]) -> None:
     ax.set_ylabel(f"level error vs {ref['cells']}$^3$, % of the acceleration pressure")
     ax.set_title("Coupled fill: speed against accuracy by fluid grid")
     ax.grid(True, which="both", alpha=0.3)
-    OUTPUT.mkdir(parents=True, exist_ok=True)
+    figure.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
-    fig.savefig(FIGURE, dpi=110)
+    fig.savefig(figure, dpi=110)
     plt.close(fig)
 
 
@@ -96,23 +103,27 @@ def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cells", type=int, nargs="+", default=[16, 24, 32])
     parser.add_argument("--windows", type=int, default=10)
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        args.cells, args.windows = SMOKE_CELLS, SMOKE_WINDOWS
+    figure = output_dir(args.smoke) / FIGURE_NAME
     logging.basicConfig(level=logging.WARNING)
     rows = [run(c, args.windows) for c in sorted(args.cells)]
     ref = rows[-1]
     for r in rows:
         r["level_difference_from_finest_pa"] = r["level_end_pa"] - ref["level_end_pa"]
     if len(rows) > 1:
-        _plot(rows)
-    bundled = run(None, None)
+        _plot(rows, figure)
+    bundled = run(None, SMOKE_BUNDLED_WINDOWS if args.smoke else None)
     bundled["ratio_to_anchor"] = bundled["seconds_per_window"] / ANCHOR["seconds_per_window"]
     bundled["meets_goal"] = bundled["seconds_per_window"] <= GOAL_SECONDS_PER_WINDOW
-    out = {"grids": rows, "reference_cells": ref["cells"], "figure": str(FIGURE),
+    out = {"grids": rows, "reference_cells": ref["cells"], "figure": str(figure),
            "bundled_scene": bundled, "bundled_anchor": ANCHOR,
            "goal_seconds_per_window": GOAL_SECONDS_PER_WINDOW,
            "anchor": "thesis Fluent-Transient Structural FSI of this case: not finished in "
                      "4+ weeks (Levine 2014, sec. 4.1.2)"}
-    print(json.dumps(out, indent=2))
+    emit("coupled_fill", out, args.smoke)
     return out
 
 

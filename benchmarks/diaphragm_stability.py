@@ -2,7 +2,7 @@
 against the added-mass bound, the explicit scheme, Aitken and IQN-ILS.
 
     python benchmarks/diaphragm_stability.py [--omegas 0.005 0.01 ...] [--windows 3]
-                                             [--mixings 0.3 0.1 0.03]
+                                             [--mixings 0.3 0.1 0.03] [--smoke]
 
 The case: the bundled ``diaphragm-fill`` (Table 4.1 diaphragm, N = 14, 16^3 cells, windows of
 2 ms, the port flow ramping up) for its first ``--windows`` windows, run with each scheme.
@@ -21,8 +21,10 @@ mean iterations), or the last pressure residual stays below 1 (not converged: sl
 ``--explicit-windows`` windows (its largest node speed against the implicit run's); Aitken and
 IQN-ILS iterations per window, and IQN-ILS with each ``--mixings`` beta (``coupling.mixing``:
 the step outside the secants' span relaxed by beta instead of taken whole).
-Writes ``benchmarks/output/diaphragm_stability.json`` and ``.png``; prints one JSON object.
-Default run: about 2 min on 2 cores.
+Writes ``benchmarks/output/diaphragm_stability.json`` and ``.png``; prints one JSON object
+(also written to ``docs/data/diaphragm_stability.json``). Default run: about 2 min on 2 cores.
+``--smoke``: one window, omegas 0.07 and 0.2 (at most 150 iterations), one mixing, two
+explicit windows (its files under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
@@ -36,12 +38,18 @@ from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from fsi.setup.build import build
 from fsi.constants import MEMBRANE_DENSITY, MEMBRANE_THICKNESS, TANK_RADIUS, WATER_DENSITY
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 
-OUTPUT = Path(__file__).resolve().parent / "output"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("predicted", "constant", "largest_converging_omega", "aitken", "iqn-ils",
+              "iqn-ils mixing", "explicit")
+#: --smoke: the options it sets (one omega each side of the measured bound, 0.07-0.1)
+SMOKE = dict(omegas=[0.07, 0.2], windows=1, max_iterations=150, explicit_windows=2,
+             mixings=[0.1])
 EXPLICIT_GROWTH = 100.0
 """The explicit run has diverged when its largest node speed exceeds the implicit run's by
 this factor (-)."""
@@ -123,7 +131,11 @@ def main(argv=None) -> int:
     parser.add_argument("--max-iterations", type=int, default=300)
     parser.add_argument("--explicit-windows", type=int, default=25)
     parser.add_argument("--mixings", type=float, nargs="*", default=[0.3, 0.1, 0.03])
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        vars(args).update(SMOKE)
+    output = output_dir(args.smoke)
     logging.getLogger().setLevel(logging.ERROR)
     common = dict(max_iterations=args.max_iterations, on_max_iterations="error")
     result = dict(predicted=predicted_bound(), windows=args.windows,
@@ -152,10 +164,10 @@ def main(argv=None) -> int:
                                                  / result["iqn-ils"]["node_speed_max"])
     result["explicit"]["status"] = ("diverged" if result["explicit"]["speed_over_implicit"]
                                     > EXPLICIT_GROWTH else "stable")
-    OUTPUT.mkdir(exist_ok=True)
-    (OUTPUT / "diaphragm_stability.json").write_text(json.dumps(result, indent=1))
-    plot(result, OUTPUT / "diaphragm_stability.png")
-    print(json.dumps(result))
+    output.mkdir(parents=True, exist_ok=True)
+    (output / "diaphragm_stability.json").write_text(json.dumps(result, indent=1))
+    plot(result, output / "diaphragm_stability.png")
+    emit("diaphragm_stability", result, args.smoke)
     return 0
 
 

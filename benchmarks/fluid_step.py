@@ -1,6 +1,6 @@
 """Seconds and microseconds per cell-step of the full liquid step on the benchmark tank grids.
 
-    python benchmarks/fluid_step.py [--quick]
+    python benchmarks/fluid_step.py [--quick] [--smoke]
 
 A full step is what ``FluidSolver.advance`` does: the cut-cell geometry of the new interface
 (geometry), the momentum predictor (momentum: assembly and three component solves) and the
@@ -29,19 +29,22 @@ serial, on this machine; two-phase VOF + PISO, so more work per step) at
 the cell count over the 3-D grids is fitted (observed exponent) and charted with the phases in
 ``benchmarks/output/fluid_step.png``.
 
-Prints one JSON object on stdout (progress goes to stderr).
+Prints one JSON object on stdout (progress goes to stderr); a full run also writes it to
+``docs/data/fluid_step.json``. ``--quick``: 2 timed steps on the axisymmetric grid and 16^3, no
+peer, no figure. ``--smoke``: one timed step (and one peer step) on :data:`SMOKE_GRIDS`, the
+figure under ``benchmarks/output/smoke/``.
 """
 from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from fluid.model import Port
 from fluid.projection import MOMENTUM_TOLERANCE
 from fluid.solver import FluidSolver, Timings
@@ -49,12 +52,15 @@ from fluid.tank import sphere_model, tank_grid
 from fluid.validation import bowl_meridian, bowl_surface
 from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS
 
-OUTPUT = Path(__file__).resolve().parent / "output"
-FIGURE = OUTPUT / "fluid_step.png"
+FIGURE_NAME = "fluid_step.png"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("goal_us_per_cell_step", "anchor", "grids", "growth_exponent_3d", "run_seconds")
 #: grid name -> (cells argument of ``tank_grid``, axisymmetric)
 GRIDS = {"axisymmetric-64x128": (64, True), "3d-16^3": (16, False), "3d-32^3": (32, False),
          "3d-48^3": (48, False)}
 QUICK_GRIDS = ("axisymmetric-64x128", "3d-16^3")
+#: --smoke: two 3-D grids, so that the growth exponent is fitted
+SMOKE_GRIDS = ("axisymmetric-64x128", "3d-16^3", "3d-32^3")
 #: timed steps per grid (full run; --quick: 2)
 TIMED_STEPS = {"axisymmetric-64x128": 20, "3d-16^3": 20, "3d-32^3": 8, "3d-48^3": 4}
 #: timed steps of the FiPy-assembly peer (None: not run on that grid)
@@ -171,7 +177,7 @@ def growth_exponent(results: dict) -> float | None:
     return float(np.polyfit(cells, seconds, 1)[0])
 
 
-def _plot(results: dict, exponent: float | None) -> None:
+def _plot(results: dict, exponent: float | None, figure: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -194,41 +200,48 @@ def _plot(results: dict, exponent: float | None) -> None:
     ax.set_title("Liquid step: cost by grid and phase (filling tank, dt = 1 ms)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    OUTPUT.mkdir(parents=True, exist_ok=True)
+    figure.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
-    fig.savefig(FIGURE, dpi=110)
+    fig.savefig(figure, dpi=110)
     plt.close(fig)
 
 
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
-                        help="smoke test: 2 timed steps, axisymmetric and 16^3, no peer")
+                        help="2 timed steps, axisymmetric and 16^3, no peer, no figure")
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    figure = output_dir(args.smoke) / FIGURE_NAME
     tic = time.perf_counter()
     results = {}
-    for name in (QUICK_GRIDS if args.quick else GRIDS):
+    for name in (SMOKE_GRIDS if args.smoke else QUICK_GRIDS if args.quick else GRIDS):
         _log(f"{name} ...")
-        results[name] = run_grid(name, 2 if args.quick else TIMED_STEPS[name],
-                                 None if args.quick else PEER_STEPS[name])
+        if args.smoke:
+            timed, peer = 1, PEER_STEPS[name] and 1
+        else:
+            timed = 2 if args.quick else TIMED_STEPS[name]
+            peer = None if args.quick else PEER_STEPS[name]
+        results[name] = run_grid(name, timed, peer)
         _log(f"  {results[name]['seconds_per_step']:.4f} s per step, "
              f"{results[name]['us_per_cell_step']:.2f} us per cell-step")
     exponent = growth_exponent(results)
     if not args.quick:
-        _plot(results, exponent)
+        _plot(results, exponent, figure)
     out = {
         "goal_us_per_cell_step": GOAL_US_PER_CELL_STEP,
         "anchor": {"what": "OpenFOAM interFoam v1912, serial, this machine (us per cell-step "
                            "at cells)", "us_per_cell_step": ANCHOR_US_PER_CELL_STEP},
         "settings": {"dt_s": DT, "flow_rate_m3_per_s": FLOW_RATE,
                      "tank_radius_m": TANK_RADIUS, "initial_sag_m": INITIAL_SAG,
-                     "warm_up_steps": WARM_UP_STEPS, "quick": args.quick},
+                     "warm_up_steps": WARM_UP_STEPS, "quick": args.quick,
+                     "smoke": args.smoke},
         "grids": results,
         "growth_exponent_3d": exponent,
-        "figure": None if args.quick else str(FIGURE),
+        "figure": None if args.quick else str(figure),
         "run_seconds": time.perf_counter() - tic,
     }
-    print(json.dumps(out, indent=2))
+    emit("fluid_step", out, args.smoke or args.quick)
     return out
 
 

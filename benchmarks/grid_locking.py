@@ -4,7 +4,7 @@ The case (what is measured per point, when a point is locked): :mod:`cases.grid_
 
     python benchmarks/grid_locking.py [--grids 14 20 26 38] [--limits 0.5 1 2 5]
                                       [--end-time 0.5] [--hold 0.5] [--dt 1e-4]
-                                      [--no-check] [--extra-check N LIMIT FACTOR]
+                                      [--no-check] [--extra-check N LIMIT FACTOR] [--smoke]
 
 Quasi-static check: every point is run again at twice the ramp time (columns ``fraction_2x``,
 ``status_2x``, ``quasi_static`` = the two fills within QS_TOL); ``--no-check`` skips it.
@@ -17,14 +17,15 @@ state depends on the ramp time.
 Writes ``benchmarks/output/grid_locking.csv`` (one row per N x limit: grid_size, error_limit,
 inverted_fraction, strain_mean, seconds, status, then the columns above), ``grid_locking.png``
 (map of inverted fraction over limit and N, locked and failed points marked, both ramp times)
-and ``grid_locking_check.csv``; prints progress to stderr and one JSON object to stdout.
-Whole default run: about 8.5 min on 2 cores (N = 38 at 0.5 % is 40 % of it).
+and ``grid_locking_check.csv``; prints progress to stderr and one JSON object to stdout (a full
+run also to ``docs/data/grid_locking.json``). Whole default run: about 8.5 min on 2 cores
+(N = 38 at 0.5 % is 40 % of it). ``--smoke``: :data:`SMOKE` (N = 6 and 8, two limits, a 10 ms
+ramp; its files under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
 import argparse
 import csv
-import json
 import logging
 import sys
 import time
@@ -32,9 +33,15 @@ from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from cases.grid_locking import LOCK_RATIO, classify, locked, run_point, static_cap
 
-OUTPUT = Path(__file__).resolve().parent / "output"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("reference", "static_cap", "table", "quasi_static", "extra_checks",
+              "total_seconds")
+#: --smoke: the options it sets
+SMOKE = dict(grids=[6, 8], limits=[1.0, 5.0], end_time=0.01, hold=0.005, dt=1e-4,
+             no_check=False, extra_check=[[6, 1.0, 2.0]])
 QS_TOL = 0.05
 """A point is quasi-static when the run at twice the ramp time ends within this fill (-)."""
 
@@ -53,7 +60,11 @@ def main(argv=None) -> dict:
                         metavar=("N", "LIMIT", "FACTOR"),
                         help="also run grid N at LIMIT %% with FACTOR x the ramp time "
                              "(repeatable; default 26 1 4)")
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        vars(args).update(SMOKE)
+    output = output_dir(args.smoke)
     grids, limits = sorted(args.grids), sorted(args.limits)
     extra = args.extra_check if args.extra_check is not None else [[26, 1.0, 4.0]]
     logging.getLogger("fsi").setLevel(logging.ERROR)
@@ -89,11 +100,11 @@ def main(argv=None) -> dict:
         if row["status"] != "courant-error":
             row["status"] = "locked" if locked(row, reference["cap_normalised"]) else "inverted"
         checks.append(row)
-    OUTPUT.mkdir(exist_ok=True)
-    _write_csv(OUTPUT / "grid_locking.csv", rows)
+    output.mkdir(parents=True, exist_ok=True)
+    _write_csv(output / "grid_locking.csv", rows)
     if checks:
-        _write_csv(OUTPUT / "grid_locking_check.csv", checks)
-    _plot(rows, grids, limits, args)
+        _write_csv(output / "grid_locking_check.csv", checks)
+    _plot(rows, grids, limits, args, output / "grid_locking.png")
     total = time.perf_counter() - t_total
     columns = ("grid_size", "error_limit", "inverted_fraction", "strain_mean", "seconds",
                "status", "ramp_end_fraction", "cap_normalised", "settled", "fraction_2x",
@@ -110,8 +121,8 @@ def main(argv=None) -> dict:
                                                "inverted_fraction", "strain_mean", "status",
                                                "seconds")} for r in checks],
            "total_seconds": total}
-    print(json.dumps(out, indent=1))
     print(f"total {total:.0f} s", file=sys.stderr, flush=True)
+    emit("grid_locking", out, args.smoke)
     return out
 
 
@@ -134,7 +145,7 @@ def _write_csv(path: Path, rows: list[dict]) -> None:
             writer.writerow({k: r.get(k, "") for k in fields})
 
 
-def _plot(rows, grids, limits, args) -> None:
+def _plot(rows, grids, limits, args, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -191,7 +202,7 @@ def _plot(rows, grids, limits, args) -> None:
     bx.set_title(f"thesis stepper, dt {args.dt:g} s; locked: fill/cap < {LOCK_RATIO:g} x "
                  "reference's", fontsize=10)
     fig.tight_layout()
-    fig.savefig(OUTPUT / "grid_locking.png", dpi=120)
+    fig.savefig(path, dpi=120)
     plt.close(fig)
 
 

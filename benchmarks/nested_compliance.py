@@ -3,7 +3,7 @@ static lateral compliance by grid.
 
     python benchmarks/nested_compliance.py [--grid-sizes 14 20 26 32 38 54] [--fill 0.5]
                                            [--tilts 0.05 0.01] [--gradient-tolerance 1e-4]
-                                           [--chain]
+                                           [--chain] [--smoke]
 
 Every grid's own start (``benchmarks/slosh_compliance.py``) is a different fold state, so
 its C by grid mixes refinement with the choice of state. Here the ``slosh-diaphragm``
@@ -27,7 +27,9 @@ the fold state), C over the free surface's |z_c| / g (the anchor) and the first-
 1 / (2 pi sqrt(C)) (Hz), each solve's convergence and the wall seconds; over the grids whose minimum was found,
 the shape against the finest by Eqn 6.1 and, over the last three (h = 1 / (N - 1)), the
 observed orders of C and the level and C extrapolated to h = 0 (``grid_study``). Writes
-``benchmarks/output/nested_compliance.png``.
+``benchmarks/output/nested_compliance.png``; a full run's JSON also goes to
+``docs/data/nested_compliance.json``. ``--smoke``: :data:`SMOKE` (three small grids, one tilt;
+the figure under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
@@ -36,6 +38,7 @@ import json
 import logging
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -52,9 +55,14 @@ from structure.prolongation import prolong
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
 from structure.xpbd import XpbdModel
 
-from slosh_compliance import OUTPUT, energies, save_figure
+from _report import SMOKE_HELP, emit, output_dir
+from slosh_compliance import energies, save_figure
 
-FIGURE = OUTPUT / "nested_compliance.png"
+FIGURE_NAME = "nested_compliance.png"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("fill", "tilts", "start_grid", "cases", "grid_study")
+#: --smoke: the options it sets
+SMOKE = dict(grid_sizes=[6, 8, 10], tilts=[0.05], gradient_tolerance=1e-3)
 
 
 def _setup(grid_size: int, fill: float):
@@ -121,7 +129,7 @@ def grid_study(cases: list[dict], shapes: dict, faces: dict, radius: float) -> d
     return out
 
 
-def plot(cases: list[dict], tilts) -> None:
+def plot(cases: list[dict], tilts, figure: Path) -> None:
     """C / C_free and the level against N, the grids whose minimum was found; the others
     named in the title."""
     import matplotlib
@@ -144,7 +152,7 @@ def plot(cases: list[dict], tilts) -> None:
     lost = [c["grid_size"] for c in cases if not c["start_converged"]]
     fig.suptitle(f"Table 4.1 diaphragm, the N = {cases[0]['grid_size']} start's fold state "
                  f"refined" + (f" (no minimum found at N = {lost})" if lost else ""))
-    save_figure(fig, FIGURE)
+    save_figure(fig, figure)
 
 
 def main(argv=None) -> None:
@@ -159,7 +167,11 @@ def main(argv=None) -> None:
     parser.add_argument("--chain", action="store_true",
                         help="carry each grid's minimum to the next (default: every grid from "
                              "the first grid's start)")
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        vars(args).update(SMOKE)
+    figure = output_dir(args.smoke) / FIGURE_NAME
     if sorted(args.grid_sizes) != args.grid_sizes:
         parser.error(f"--grid-sizes must rise, got {args.grid_sizes}")
     logging.basicConfig(level=logging.WARNING)
@@ -181,12 +193,12 @@ def main(argv=None) -> None:
         model = fine.model
         print(json.dumps(case), file=sys.stderr, flush=True)
     study = grid_study(cases, shapes, faces, setup.model.radius)
-    plot(cases, args.tilts)
-    print(json.dumps(dict(benchmark="nested_compliance", fill=args.fill, tilts=args.tilts,
-                          gradient_tolerance=args.gradient_tolerance,
-                          start_grid=args.grid_sizes[0], chain=args.chain,
-                          xpbd_start_seconds=xpbd_seconds,
-                          figure=str(FIGURE), cases=cases, grid_study=study)))
+    plot(cases, args.tilts, figure)
+    emit("nested_compliance", dict(benchmark="nested_compliance", fill=args.fill,
+                                   tilts=args.tilts, gradient_tolerance=args.gradient_tolerance,
+                                   start_grid=args.grid_sizes[0], chain=args.chain,
+                                   xpbd_start_seconds=xpbd_seconds, figure=str(figure),
+                                   cases=cases, grid_study=study), args.smoke)
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 """The analytical rung against the shell model: where each closed form of a flat clamped
 diaphragm holds, and the thesis's Ch. 3 cases (Figs 3.2-3.4).
 
-    python benchmarks/plate_estimates.py [--grid-sizes 20 26 38] [--loads-per-decade 2]
+    python benchmarks/plate_estimates.py [--grid-sizes 20 26 38] [--loads-per-decade 2] [--smoke]
 
 1. Validity.  A flat disc of the thesis's radius, thickness and E (nu = 0.5), clamped and
    held, under uniform pressures from 1 mPa to 3 kPa (w0 from 0.01 t to 25 t), solved by the
@@ -18,8 +18,10 @@ diaphragm holds, and the thesis's Ch. 3 cases (Figs 3.2-3.4).
    statements can: the deflection is far beyond the large-deflection limit of 3 t.
 
 Writes ``benchmarks/output/plate_estimates.json`` and ``plate_estimates.png`` (each estimate
-over the shell against w0 / t, the thesis's limits marked); prints one JSON object.
-Default run: about 4.5 min on 2 cores (N = 38: 13 s per load).
+over the shell against w0 / t, the thesis's limits marked); prints one JSON object (a full run
+also writes it to ``docs/data/plate_estimates.json``). Default run: about 4.5 min on 2 cores
+(N = 38: 13 s per load). ``--smoke``: :data:`SMOKE` (two coarse grids, :data:`SMOKE_LOADS` loads;
+its files under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
@@ -31,13 +33,19 @@ from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from fsi.constants import (MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS, STANDARD_GRAVITY,
                            TANK_RADIUS, WATER_DENSITY)
 from fsi.procedures.plate_estimate import PLATE_LOADS
 from structure.plate import (ESTIMATES, LARGE_DEFLECTION_LIMIT, SMALL_DEFLECTION_LIMIT,
                              FlatDiaphragm, ShellDisc)
 
-OUTPUT = Path(__file__).resolve().parent / "output"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("grid_sizes", "validity", "thesis_cases", "seconds_per_load",
+              "speed_ratio_shell_over_closed_forms")
+#: --smoke: the grids and the number of loads over the same range (both sides of 3 t)
+SMOKE = dict(grid_sizes=[4, 8])
+SMOKE_LOADS = 4
 AGREEMENT = 0.05
 """An estimate 'holds' where it is within this fraction of the shell model (-)."""
 INCH = 0.0254  # m
@@ -133,9 +141,14 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grid-sizes", type=int, nargs="+", default=[20, 26, 38])
     parser.add_argument("--loads-per-decade", type=int, default=2)
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        vars(args).update(SMOKE)
+    output = output_dir(args.smoke)
     plate = FlatDiaphragm(TANK_RADIUS, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS, 0.5)
-    loads = np.logspace(-3, np.log10(3000.0), int(round(6.5 * args.loads_per_decade)) + 1)
+    count = SMOKE_LOADS if args.smoke else int(round(6.5 * args.loads_per_decade)) + 1
+    loads = np.logspace(-3, np.log10(3000.0), count)
     shell = shell_sweep(plate, args.grid_sizes, loads)
     finest = shell[args.grid_sizes[-1]]["w0"]
     grid_error = np.abs(shell[args.grid_sizes[-2]]["w0"] / finest - 1) \
@@ -156,10 +169,10 @@ def main(argv=None) -> int:
         speed_ratio_shell_over_closed_forms=shell[args.grid_sizes[-1]]["seconds_per_load"]
         / closed_seconds,
     )
-    OUTPUT.mkdir(exist_ok=True)
-    (OUTPUT / "plate_estimates.json").write_text(json.dumps(result, indent=1))
-    plot(result, OUTPUT / "plate_estimates.png")
-    print(json.dumps(result))
+    output.mkdir(parents=True, exist_ok=True)
+    (output / "plate_estimates.json").write_text(json.dumps(result, indent=1))
+    plot(result, output / "plate_estimates.png")
+    emit("plate_estimates", result, args.smoke)
     return 0
 
 

@@ -4,7 +4,7 @@ of what the coupled slosh run's frequency converges to.
     python benchmarks/slosh_compliance.py [--grid-sizes 10 14 20 26] [--fills 0.5]
                                           [--tilts 0.05 0.01] [--window 0.002] [--no-shell]
                                           [--set membrane.youngs_modulus=8.6e5 ...]
-                                          [--quasi-static SUBSTEPS]
+                                          [--quasi-static SUBSTEPS] [--smoke]
 
 For each membrane grid N and tank fraction, the ``slosh-diaphragm`` scene's static start
 (XPBD, the windows' substeps and sweeps: the fold state a coupled run starts from) is tilted
@@ -19,12 +19,14 @@ key (Young's modulus, density, rim support, wrinkling) to see what sets C. ``--q
 solves the start and the tilted solves by the warm-started quasi-static XPBD iteration (one
 sweep per substep, at most SUBSTEPS substeps each) instead of the coupled run's damped
 dynamic substeps: the same equilibria where both converge, much cheaper where a slack
-tension-field sheet creeps (its ``converged`` flags say whether the move tolerance was met). Writes ``benchmarks/output/slosh_compliance.png`` (C / C_free against N).
+tension-field sheet creeps (its ``converged`` flags say whether the move tolerance was met).
+Writes ``benchmarks/output/slosh_compliance.png`` (C / C_free against N); a full run's JSON
+also goes to ``docs/data/slosh_compliance.json``. ``--smoke``: :data:`SMOKE` (N = 10, one tilt,
+with the shell; the figure under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import time
 import tomllib
@@ -32,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from fsi.setup.build import build
 from fsi.slosh.lateral_compliance import first_mode_bound, free_surface_compliance
 from fsi.setup.models import statics_substep
@@ -44,8 +47,11 @@ from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shel
 from structure.volume import tank_volume
 from structure.xpbd import XpbdModel, XpbdSettings
 
-OUTPUT = Path(__file__).resolve().parent / "output"
-FIGURE = OUTPUT / "slosh_compliance.png"
+FIGURE_NAME = "slosh_compliance.png"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("benchmark", "cases")
+#: --smoke: the options it sets
+SMOKE = dict(grid_sizes=[10], fills=[0.5], tilts=[0.05])
 
 
 def _setup(grid_size: int, fill: float, changes: dict):
@@ -135,7 +141,7 @@ def case(grid_size: int, fill: float, tilts, window: float, shell: bool,
     return out
 
 
-def plot(cases: list[dict]) -> None:
+def plot(cases: list[dict], figure: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -153,13 +159,13 @@ def plot(cases: list[dict]) -> None:
     ax.set_title("Table 4.1 diaphragm: static lateral compliance")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    save_figure(fig, FIGURE)
+    save_figure(fig, figure)
 
 
 def save_figure(fig, path: Path) -> None:
-    """Write ``fig`` to ``path`` (under :data:`OUTPUT`) and close it."""
+    """Write ``fig`` to ``path`` (its folder made when missing) and close it."""
     import matplotlib.pyplot as plt
-    OUTPUT.mkdir(exist_ok=True)
+    path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -179,15 +185,20 @@ def main(argv=None) -> None:
     parser.add_argument("--quasi-static", type=int, default=0, metavar="SUBSTEPS",
                         help="start and tilted solves by warm-started quasi-static XPBD, at "
                              "most SUBSTEPS substeps each (0: the coupled run's damped start)")
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        vars(args).update(SMOKE)
+    figure = output_dir(args.smoke) / FIGURE_NAME
     if args.quasi_static < 0:
         parser.error(f"--quasi-static must be >= 0 substeps, got {args.quasi_static}")
     logging.basicConfig(level=logging.WARNING)
     changes = dict(args.set)
     cases = [case(n, f, args.tilts, args.window, not args.no_shell, changes, args.quasi_static)
              for f in args.fills for n in args.grid_sizes]
-    plot(cases)
-    print(json.dumps(dict(benchmark="slosh_compliance", figure=str(FIGURE), cases=cases)))
+    plot(cases, figure)
+    emit("slosh_compliance", dict(benchmark="slosh_compliance", figure=str(figure),
+                                  cases=cases), args.smoke)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 
     python benchmarks/slosh_diaphragm.py [--cells 16] [--grid-size 14] [--end-time 3.0]
                                          [--cases base E/10 ...] [--no-limp]
-                                         [--window-scheme first-order|scene]
+                                         [--window-scheme first-order|scene] [--smoke]
     python benchmarks/slosh_diaphragm.py --replot A.json [B.json ...]
 
 Runs the bundled ``slosh-diaphragm`` scene (the Table 4.1 diaphragm, a 0.5 m/s^2 sin^2 lateral
@@ -30,6 +30,9 @@ memory, the surface mean); the ``second order, ...`` cases set their own window.
 With two or more pulse cases the JSON has ``linearity``: per step up in the pulse, the first
 mode's amplitude ratio over the pulse ratio and its frequency ratio (anchors 1; linear within
 2 % and 0.5 %, the free-surface limit's criterion), and ``slosh_diaphragm_linearity.png``.
+The JSON of a run that is not ``--smoke`` (``--replot`` too) also goes to
+``docs/data/slosh_diaphragm.json``. ``--smoke``: :data:`SMOKE` (the base case and two pulses on
+N = 6 for two windows, and the limp surface; the figures under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
@@ -41,14 +44,20 @@ from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from fsi.setup.build import build
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 
-OUTPUT = Path(__file__).resolve().parent / "output"
+OUTPUT = output_dir(False)
 FIGURE = OUTPUT / "slosh_diaphragm.png"
 BY_FILL = OUTPUT / "slosh_diaphragm_by_fill.png"
 LINEARITY = OUTPUT / "slosh_diaphragm_linearity.png"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("cases", "figure", "by_fill")
+#: --smoke: the options it sets (the membrane's static start is most of a case's time; at
+#: N = 6 it takes a second)
+SMOKE = dict(cases=["base", "pulse x1", "pulse x2"], grid_size=6, end_time=0.004)
 #: the by-fill figure's families: label -> the cases of one membrane law at 0.3, 0.5, 0.7
 FAMILIES = {"full law (N = {n})": ("base", "fill 0.3", "fill 0.7"),
             "tension field (N = {n})": ("tension field", "tension field, fill 0.3",
@@ -253,7 +262,7 @@ def plot(cases: list[dict]) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    OUTPUT.mkdir(exist_ok=True)
+    OUTPUT.mkdir(parents=True, exist_ok=True)
     shown = [c for c in cases if c.get("lambda1") is not None]
     labels = [f"{c['case']}\n{c['surface']}" for c in shown]
     fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
@@ -314,7 +323,7 @@ def _output(cases: list[dict]) -> dict:
     return out
 
 
-def main() -> None:
+def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cells", type=int, default=16)
     parser.add_argument("--grid-size", type=int, default=14)
@@ -326,11 +335,15 @@ def main() -> None:
                         "first-order window of the README's tables, or the scene's own")
     parser.add_argument("--replot", nargs="+", type=Path, metavar="JSON",
                         help="draw the figures from earlier runs' printed JSON, run nothing")
-    args = parser.parse_args()
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
+    args = parser.parse_args(argv)
+    if args.smoke:
+        vars(args).update(SMOKE)
+        _use_output(output_dir(True))
     if args.replot:
         cases = [c for path in args.replot for c in json.loads(path.read_text())["cases"]]
         plot(cases)
-        print(json.dumps(_output(cases), indent=1))
+        emit("slosh_diaphragm", _output(cases), args.smoke)
         return
     logging.basicConfig(level=logging.WARNING)
     cases = []
@@ -349,7 +362,14 @@ def main() -> None:
                 c["lambda1_over_limp"] = c["lambda1"] / ref
         cases += list(limp.values())
     plot(cases)
-    print(json.dumps(_output(cases), indent=1))
+    emit("slosh_diaphragm", _output(cases), args.smoke)
+
+
+def _use_output(folder: Path) -> None:
+    """Write the figures under ``folder``."""
+    global OUTPUT, FIGURE, BY_FILL, LINEARITY
+    OUTPUT = folder
+    FIGURE, BY_FILL, LINEARITY = (folder / path.name for path in (FIGURE, BY_FILL, LINEARITY))
 
 
 if __name__ == "__main__":

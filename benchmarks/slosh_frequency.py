@@ -3,6 +3,7 @@ mass, speed.
 
     python benchmarks/slosh_frequency.py [--fills 0.3 0.5 0.7] [--cells 16 24]
                                          [--limp | --surface limp|linear] [--end-time 5.0]
+                                         [--smoke]
 
 Runs the bundled ``slosh-half`` scene (a 0.5 m/s^2 sin^2 lateral pulse over 0.1 s, then
 inviscid free decay, 2 ms windows) at each tank fraction V / (4/3 pi R^3) and fluid grid, and
@@ -18,15 +19,17 @@ periods. Anchors at tank fraction 0.5: lambda1 = 1.5602 (rigid
 half-full sphere, Budiansky 1960; NASTRAN demo d03031a), and the peer a user would pick for a
 bare tank, OpenFOAM interFoam (v1912, this machine, 2 cores): 225 s for five periods at 34,776
 cells with lambda1 off by -1.9 %. Writes ``benchmarks/output/slosh_frequency.png`` (lambda1
-against tank fraction, one line per grid).
+against tank fraction, one line per grid). A full run's JSON also goes to
+``docs/data/slosh_frequency.json``. ``--smoke``: :data:`SMOKE` (tank fraction 0.5 on 8^3 and
+10^3 cells, 20 ms windows, 2.4 s; the figure under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 from pathlib import Path
 
+from _report import SMOKE_HELP, emit, output_dir
 from fluid.tank import tank_spacing
 from fsi.setup.build import build
 from fsi.constants import TANK_RADIUS
@@ -34,8 +37,12 @@ from fsi.analysis.extrapolation import observed_order, richardson
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 
-OUTPUT = Path(__file__).resolve().parent / "output"
-FIGURE = OUTPUT / "slosh_frequency.png"
+FIGURE_NAME = "slosh_frequency.png"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("cases", "extrapolated", "anchor_lambda1_half", "interfoam")
+#: --smoke: the options it sets, and the window (s; the scene's is 2 ms)
+SMOKE = dict(fills=[0.5], cells=[8, 10], end_time=2.4)
+SMOKE_WINDOW = 0.02
 
 #: Budiansky (1960): lambda1 = omega^2 R / g of the rigid half-full sphere
 LAMBDA1_HALF = 1.5602
@@ -50,10 +57,14 @@ KEYS = ("lambda1", "lambda1_std", "frequency_hz", "frequency_hz_std", "zeta", "z
 SURFACE_CONVECTION = {"limp": "upwind", "linear": "none"}
 
 
-def run(fill: float, cells: int, end_time: float, surface: str) -> dict:
-    """The bundled ``slosh-half`` at tank fraction ``fill`` on ``cells``^3: its numbers."""
+def run(fill: float, cells: int, end_time: float, surface: str,
+        window: float | None = None) -> dict:
+    """The bundled ``slosh-half`` at tank fraction ``fill`` on ``cells``^3 (and
+    ``slosh.window``, s, unless None): its numbers."""
     scene = load_scene("slosh-half")
     scene.values["slosh"].update(fill=fill, end_time=end_time, surface=surface)
+    if window is not None:
+        scene.values["slosh"]["window"] = window
     scene.values["fluid"].update(cells=cells, convection=SURFACE_CONVECTION[surface])
     result = PROCEDURES["slosh"](build(scene), lambda fraction, message: None)
     out = dict(fill=fill, cells=cells, surface=surface)
@@ -88,11 +99,11 @@ def extrapolated(cases: list[dict]) -> list[dict]:
     return out
 
 
-def plot(cases: list[dict]) -> None:
+def plot(cases: list[dict], figure: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    OUTPUT.mkdir(exist_ok=True)
+    figure.parent.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(figsize=(6, 4))
     for cells in sorted({c["cells"] for c in cases}):
         pts = sorted((c["fill"], c["lambda1"]) for c in cases
@@ -104,11 +115,11 @@ def plot(cases: list[dict]) -> None:
     ax.set_ylabel("$\\lambda_1 = \\omega^2 R / g$")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.savefig(FIGURE, dpi=90, bbox_inches="tight")
+    fig.savefig(figure, dpi=90, bbox_inches="tight")
     plt.close(fig)
 
 
-def main() -> None:
+def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fills", type=float, nargs="+", default=[0.5])
     parser.add_argument("--cells", type=int, nargs="+", default=[24])
@@ -117,18 +128,24 @@ def main() -> None:
     parser.add_argument("--limp", action="store_const", dest="surface", const="limp",
                         help="the limp diaphragm (the moving free surface): --surface limp")
     parser.add_argument("--end-time", type=float, default=5.0, help="simulated seconds")
-    args = parser.parse_args()
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
+    args = parser.parse_args(argv)
+    if args.smoke:
+        vars(args).update(SMOKE)
+    figure = output_dir(args.smoke) / FIGURE_NAME
     logging.basicConfig(level=logging.WARNING)
-    cases = [run(f, c, args.end_time, args.surface) for f in args.fills for c in args.cells]
-    plot(cases)
+    window = SMOKE_WINDOW if args.smoke else None
+    cases = [run(f, c, args.end_time, args.surface, window) for f in args.fills
+             for c in args.cells]
+    plot(cases, figure)
     half = [c for c in cases if c["fill"] == 0.5 and c.get("lambda1") is not None]
     for c in half:
         c["lambda1_error"] = c["lambda1"] / LAMBDA1_HALF - 1
         c["seconds_five_periods"] = 5 * c["seconds_per_period"]
         c["ratio_to_interfoam"] = c["seconds_five_periods"] / INTERFOAM["seconds_five_periods"]
-    print(json.dumps(dict(cases=cases, extrapolated=extrapolated(cases),
-                          anchor_lambda1_half=LAMBDA1_HALF, interfoam=INTERFOAM,
-                          figure=str(FIGURE)), indent=1))
+    emit("slosh_frequency", dict(cases=cases, extrapolated=extrapolated(cases),
+                                 anchor_lambda1_half=LAMBDA1_HALF, interfoam=INTERFOAM,
+                                 figure=str(figure)), args.smoke)
 
 
 if __name__ == "__main__":

@@ -19,26 +19,32 @@ the tries that stalled and the rule stops (caught, and the iterations saved). Pr
 JSON object; the anchor is the run's own iteration count.
 
     python benchmarks/stall_stop.py [--scene valve-fill] [--end-time S]
-        [--stalls 20 25 30 40] [--reductions 0.3 0.5 0.9]
+        [--stalls 20 25 30 40] [--reductions 0.3 0.5 0.9] [--smoke]
 
-The bundled ``valve-fill`` takes about 14 min.
+The bundled ``valve-fill`` takes about 14 min. A full run's JSON also goes to
+``docs/data/stall_stop.json``. ``--smoke``: the scene's first :data:`SMOKE_WINDOWS` windows
+(its tries file under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
 import argparse
 import json
 import time
-from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from coupling.convergence import StallRule, residual_score
 from coupling.scheme import SCHEMES
 from fsi.setup.build import build
 from fsi.procedures import PROCEDURES
 from fsi.scene import load_scene
 
-OUTPUT = Path(__file__).resolve().parent / "output"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("scene", "windows", "windows_split", "tries", "iterations", "wall_seconds",
+              "rules")
+#: --smoke: windows of the scene run
+SMOKE_WINDOWS = 2
 
 
 def stop_iteration(scores, stall: int, reduction: float):
@@ -98,11 +104,16 @@ def main(argv=None) -> dict:
     p.add_argument("--end-time", type=float, default=None, help="s (default: the scene's)")
     p.add_argument("--stalls", type=int, nargs="+", default=[20, 25, 30, 40])
     p.add_argument("--reductions", type=float, nargs="+", default=[0.3, 0.5, 0.9])
+    p.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = p.parse_args(argv)
+    output = output_dir(args.smoke)
     keys = {"coupling": {"stall_iterations": 0}}
     if args.end_time is not None:
         keys["dynamics"] = {"end_time": args.end_time}
     scene = load_scene(args.scene).with_keys(keys)
+    if args.smoke:
+        scene = scene.with_keys({"dynamics": {
+            "end_time": SMOKE_WINDOWS * scene["dynamics"]["window"]}})
     t0 = time.perf_counter()
     result, tries = traced_run(scene)
     seconds = time.perf_counter() - t0
@@ -116,9 +127,9 @@ def main(argv=None) -> dict:
                windows_split=int(a["windows_split"]), tries=len(tries),
                tries_split_mode=sum(x["mode"] == "split" for x in tries),
                iterations=total, wall_seconds=seconds, rules=rows)
-    OUTPUT.mkdir(exist_ok=True)
-    (OUTPUT / f"stall_stop_{args.scene}_tries.json").write_text(json.dumps(tries))
-    print(json.dumps(out, indent=1))
+    output.mkdir(parents=True, exist_ok=True)
+    (output / f"stall_stop_{args.scene}_tries.json").write_text(json.dumps(tries))
+    emit("stall_stop", out, args.smoke)
     return out
 
 

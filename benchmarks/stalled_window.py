@@ -2,6 +2,7 @@
 liquid's map probed for jumps.
 
     python benchmarks/stalled_window.py [--scene valve-fill] [--windows 20 84 154] [--as-bundled]
+                                        [--smoke]
 
 The coupling iterates x = H(x), H the membrane's window under the node pressures x followed by
 the liquid's under the membrane's positions. A window whose residual stops falling short of
@@ -31,12 +32,12 @@ iterate of the run as run up to it, H is evaluated at x + eps d for random direc
 (|d| = |x|) and eps = 1e-4 ... 1e-8: |H_liquid(x + eps d) - H_liquid(x)| / (eps |x|) stays
 constant where the liquid's map is smooth and grows as 1/eps across a jump (the membrane's
 positions, the same ratio in m, as a control). Prints one JSON object (about 3 min for the
-default windows of the bundled valve fill).
+default windows of the bundled valve fill); a full run also writes it to
+``docs/data/stalled_window.json``. ``--smoke``: window :data:`SMOKE_WINDOWS` only.
 """
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import sys
 import time
@@ -45,6 +46,7 @@ from dataclasses import replace
 import cloudpickle
 import numpy as np
 
+from _report import SMOKE_HELP, emit
 from coupling import advance
 from fsi.coupled.adapters import POINTS, PRESSURE
 from fsi.setup.build import build
@@ -64,6 +66,10 @@ VARIANTS = {"as run": {}, "centre cells held": {"centre_cells": "window"},
 """Variant -> the [fluid] keys (or ``on_max_iterations``) it changes for the window probed."""
 EPSILONS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 DIRECTIONS = 6
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("scene", "run_up", "windows", "seconds")
+#: --smoke: the window probed
+SMOKE_WINDOWS = [1]
 
 
 def _apply(parts, keys: dict) -> None:
@@ -144,7 +150,10 @@ def main(argv=None) -> int:
     parser.add_argument("--as-bundled", action="store_true",
                         help="run up to the windows with the scene's own [fluid] and "
                         "[coupling] keys")
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        args.windows = SMOKE_WINDOWS
     logging.getLogger().setLevel(logging.ERROR)
     scene = load_scene(args.scene)
     setup = build(scene if args.as_bundled else scene.with_keys(BEFORE))
@@ -168,7 +177,7 @@ def main(argv=None) -> int:
             print(f"window {k}: {name}: {summary}", file=sys.stderr)
         out["windows"][str(k)] = entry
     out["seconds"] = time.perf_counter() - t0
-    print(json.dumps(out))
+    emit("stalled_window", out, args.smoke)
     return 0
 
 

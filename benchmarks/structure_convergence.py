@@ -2,6 +2,7 @@
 
     python benchmarks/structure_convergence.py [--models thesis xpbd shell]
                                                [--grids 14 20 26 38 54] [--write-table]
+                                               [--smoke]
 
 For each model of :data:`fsi.setup.models.STRUCTURE_MODELS` and grid size N of the thesis scene
 (clamped hemisphere, hydrostatic water), the model fills the tank by continuation to the same
@@ -19,7 +20,9 @@ converged, mean and largest thesis strain) and ``structure_speed_accuracy.png`` 
 the sweep against its mean Eqn 6.1 error, one point per model and grid; the thesis's own
 24,600 s for N = 26 as the anchor) and prints one JSON object.  With ``--write-table`` the
 per-fill seconds and mean errors go to ``fsi/model_table.json``, which ``structure.model =
-"auto"`` reads.  Compilation is excluded (a small warm-up run per model first).
+"auto"`` reads.  Compilation is excluded (a small warm-up run per model first).  A full run's
+JSON also goes to ``docs/data/structure_convergence.json``.  ``--smoke``: every model on
+:data:`SMOKE_GRIDS` (its files under ``benchmarks/output/smoke/``; never the table).
 """
 from __future__ import annotations
 
@@ -33,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit, output_dir
 from fsi.setup.build import build
 from fsi.analysis.compare import eqn_6_1_error
 from fsi.constants import THESIS_RUNTIME_SECONDS
@@ -43,7 +47,10 @@ from structure.model import MembraneState
 from structure.statics import strain_error
 
 TANK_FRACTIONS = (0.2, 0.35, 0.5)
-OUTPUT = Path(__file__).resolve().parent / "output"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("tank_fractions", "reference", "models", "anchor")
+#: --smoke: the grids (three, so that one observed order is measured)
+SMOKE_GRIDS = [6, 8, 10]
 TABLE = Path(__file__).resolve().parent.parent / "fsi" / "setup" / MODEL_TABLE_FILE
 
 
@@ -93,7 +100,11 @@ def main(argv=None) -> dict:
     parser.add_argument("--grids", type=int, nargs="+", default=[14, 20, 26, 38, 54])
     parser.add_argument("--write-table", action="store_true",
                         help=f"write per-fill seconds and mean errors to fsi/{MODEL_TABLE_FILE}")
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        args.grids, args.write_table = SMOKE_GRIDS, False
+    output = output_dir(args.smoke)
     grids = sorted(args.grids)
     logging.getLogger("fsi").setLevel(logging.ERROR)
     runs: dict[str, dict[int, dict]] = {}
@@ -132,19 +143,19 @@ def main(argv=None) -> dict:
         summary[name]["observed_order"] = {
             f"{a}-{b}": float(np.log(self_err[a] / self_err[b]) / np.log(b / a))
             for a, b in zip(grids[:-2], grids[1:-1]) if self_err[a] > 0 and self_err[b] > 0}
-    OUTPUT.mkdir(exist_ok=True)
-    with open(OUTPUT / "structure_convergence.csv", "w", newline="") as fh:
+    output.mkdir(parents=True, exist_ok=True)
+    with open(output / "structure_convergence.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
-    _plot(grids, summary, ref_name)
+    _plot(grids, summary, ref_name, output / "structure_speed_accuracy.png")
     out = {"tank_fractions": list(TANK_FRACTIONS), "reference": f"{ref_name} N = {grids[-1]}",
            "models": summary, "anchor": {"thesis_seconds_N26": THESIS_RUNTIME_SECONDS}}
     if "thesis" in summary and 26 in grids:
         out["speedup_thesis_N26"] = THESIS_RUNTIME_SECONDS / summary["thesis"][26]["sweep_seconds"]
     if args.write_table:
         write_table(out, grids)
-    print(json.dumps(out, indent=1))
+    emit("structure_convergence", out, args.smoke)
     return out
 
 
@@ -162,7 +173,7 @@ def write_table(out: dict, grids: list[int]) -> None:
     TABLE.write_text(json.dumps(table, indent=1) + "\n")
 
 
-def _plot(grids, summary, ref_name) -> None:
+def _plot(grids, summary, ref_name, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -189,7 +200,7 @@ def _plot(grids, summary, ref_name) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(OUTPUT / "structure_speed_accuracy.png", dpi=120)
+    fig.savefig(path, dpi=120)
     plt.close(fig)
 
 

@@ -1,7 +1,7 @@
 """How a sweep scales with Dask workers on this machine: one 9-case sweep run with 1 and
 with 2 workers of a ``LocalCluster``.
 
-    python benchmarks/sweep_scaling.py [--workers 1 2] [--cells 16] [--end-time 2.0]
+    python benchmarks/sweep_scaling.py [--workers 1 2] [--cells 16] [--end-time 2.0] [--smoke]
 
 The sweep is the bundled ``slosh-half`` (limp diaphragm, impulse then free decay) at tank
 fractions V / (4/3 pi R^3) 0.1 ... 0.9 (9 cases, ``--cells`` per axis, ``--end-time`` s
@@ -14,12 +14,13 @@ against one worker's (how much the workers slow each other on shared cores and m
 profile of the wall time: the cluster's start (until the first case starts), each worker's
 busy seconds and cases, and the seconds a worker stood idle while another still ran; and
 whether every count's dataset holds the same first-mode lambda1 (each case runs alone in its
-process, so it should, bit for bit).
+process, so it should, bit for bit). A full run's JSON also goes to
+``docs/data/sweep_scaling.json``. ``--smoke``: :data:`SMOKE` and :data:`SMOKE_SWEPT` (two
+cases of 8^3 cells, 1.5 s in 20 ms windows, on 1 and 2 workers).
 """
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import math
 import tempfile
@@ -28,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from _report import SMOKE_HELP, emit
 from fsi.sweep import data as sweep_data
 from fsi.sweep.file import parse_sweep
 from fsi.sweep.run import run_sweep
@@ -38,10 +40,18 @@ scene = "slosh-half"
 plot = []
 [set]
 fluid.cells = {cells}
-slosh.end_time = {end_time}
+slosh.end_time = {end_time}{extra}
 [vary]
-slosh.fill = {{ start = 0.1, stop = 0.9, num = 9 }}
+slosh.fill = {{ start = {start}, stop = {stop}, num = {cases} }}
 """
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("cases", "cells", "end_time_s", "runs", "same_results")
+#: the tank fractions swept: first, last, number of cases (and no other key set)
+SWEPT = dict(start=0.1, stop=0.9, cases=9, extra="")
+#: --smoke: the options it sets, and what it sweeps (8^3 cells take tank fractions 0.352 ...
+#: 0.648; 20 ms windows, so that 1.5 s, two periods of the first mode, end in 75)
+SMOKE = dict(workers=[1, 2], cells=8, end_time=1.5)
+SMOKE_SWEPT = dict(start=0.4, stop=0.6, cases=2, extra="\nslosh.window = 0.02")
 
 
 def profile(records, start: float) -> dict:
@@ -64,12 +74,16 @@ def main(argv=None) -> dict:
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--cells", type=int, default=16)
     parser.add_argument("--end-time", type=float, default=2.0)
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
+    if args.smoke:
+        vars(args).update(SMOKE)
     logging.basicConfig(level=logging.WARNING)
     import distributed  # noqa: F401  (its logging set up on import; quieted here)
 
     logging.getLogger("distributed").setLevel(logging.WARNING)
-    sweep = parse_sweep(SWEEP.format(cells=args.cells, end_time=args.end_time), "scaling")
+    sweep = parse_sweep(SWEEP.format(cells=args.cells, end_time=args.end_time,
+                                     **(SMOKE_SWEPT if args.smoke else SWEPT)), "scaling")
     runs, lambdas = {}, {}
     with tempfile.TemporaryDirectory() as tmp:
         for workers in args.workers:
@@ -96,7 +110,7 @@ def main(argv=None) -> dict:
                   lambda1=[round(float(x), 6) for x in first],
                   same_results=all(np.array_equal(first, v, equal_nan=True)
                                    for v in lambdas.values()))
-    print(json.dumps(report))
+    emit("sweep_scaling", report, args.smoke)
     return report
 
 

@@ -1,6 +1,6 @@
 """Where the coupled fill fails: a valve opening from a nearly empty tank.
 
-    python benchmarks/valve_open_low_fill.py [--cases NAME ...]
+    python benchmarks/valve_open_low_fill.py [--cases NAME ...] [--smoke]
 
 Each case is the bundled ``valve-open`` scene (Table 4.1 diaphragm, N = 14, 16^3 cells, the
 valve opened over 20 ms) started from its static equilibrium at tank fraction 0.1 instead of
@@ -29,7 +29,9 @@ the inertial ones the scene's coupling (IQN-ILS, 100 iterations, a stalled windo
 the quasi-static ones the thesis fill's.  Writes
 ``benchmarks/output/valve_open_low_fill.json`` and ``valve_open_low_fill.png`` (each case by
 flow and window, marked by its outcome, and how far each ``from 0.5`` case ran).  Prints one
-JSON object; about 45 min.
+JSON object (a full run also writes it to ``docs/data/valve_open_low_fill.json``); about 45 min.
+``--smoke``: :data:`SMOKE_CASES`, each cut to two windows (its files under
+``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
 
@@ -38,7 +40,6 @@ import json
 import logging
 import sys
 import time
-from pathlib import Path
 
 import matplotlib
 
@@ -46,12 +47,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from _report import SMOKE_HELP, emit, output_dir  # noqa: E402
 from fsi.setup.build import build  # noqa: E402
 from fsi.procedures import PROCEDURES  # noqa: E402
 from fsi.scene import load_scene  # noqa: E402
 from fsi.analysis.static_vs_dynamic import TIME_SCHEME_KEYS  # noqa: E402
 
-OUTPUT = Path(__file__).resolve().parent / "output"
+#: the JSON's top-level keys the documentation reads
+DOC_FIELDS = ("start_fill", "end_fill", "runs")
 START_FILL = 0.1
 MIXING_NO_REUSE = {"coupling": dict(mixing=0.1, reuse=0)}
 """The keys of the ``mixing 0.1, no reuse`` cases (README, 'With mixing')."""
@@ -166,6 +169,10 @@ fill's drain (each with the cells chosen anew each iteration and at each window'
 each a quarter of an hour or more, the opening from 0.1 on the 24^3 liquid grid, and the
 opening from 0.1 with the valve fill's coupling to 0.3 s (about 10 min), alone or with
 Newton steps for its stalled windows (and the two [fluid] keys)."""
+SMOKE_CASES = {"1e-3, 2 ms": 0.004, "1e-3, quasi-static": 0.4,
+               "from 0.5, clamped, 1e-2, 1 ms": 0.002}
+"""--smoke: one case of each kind (inertial and quasi-static windows from START_FILL, an
+opening from half full) -> its end time (s): two windows."""
 
 
 def run_case(flow: float, end_time: float, window: float = 1e-3, scheme: str = "euler",
@@ -242,15 +249,21 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", nargs="+", choices=list(CASES),
                         default=[name for name in CASES if name not in LONG_CASES])
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.ERROR)
-    runs = {name: run_case(**CASES[name]) for name in args.cases}
-    OUTPUT.mkdir(exist_ok=True)
-    plot(runs).savefig(OUTPUT / "valve_open_low_fill.png", dpi=120)
+    output = output_dir(args.smoke)
+    if args.smoke:
+        runs = {name: run_case(**dict(CASES[name], end_time=end))
+                for name, end in SMOKE_CASES.items()}
+    else:
+        runs = {name: run_case(**CASES[name]) for name in args.cases}
+    output.mkdir(parents=True, exist_ok=True)
+    plot(runs).savefig(output / "valve_open_low_fill.png", dpi=120)
     summary = dict(start_fill=START_FILL, end_fill=END_FILL, runs=runs,
-                   png=str(OUTPUT / "valve_open_low_fill.png"))
-    (OUTPUT / "valve_open_low_fill.json").write_text(json.dumps(summary, indent=1))
-    print(json.dumps(summary))
+                   png=str(output / "valve_open_low_fill.png"))
+    (output / "valve_open_low_fill.json").write_text(json.dumps(summary, indent=1))
+    emit("valve_open_low_fill", summary, args.smoke)
     return 0
 
 

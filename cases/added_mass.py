@@ -374,12 +374,21 @@ def constant_map(problem: Problem, ratios, omegas, max_iterations: int = 200,
                  tol: float = 1e-8) -> np.ndarray:
     """Constant relaxation over (mass ratio, omega), one window each: iterations when converged,
     -1 when diverged (last residual above the first), 0 when contracting but not converged
-    within ``max_iterations``. Shape (len(omegas), len(ratios))."""
+    within ``max_iterations``. Shape (len(omegas), len(ratios)).
+
+    A cell whose iterates overflow raises :class:`CouplingError` (the coupling stops any window
+    with non-finite data, whatever ``on_max_iterations`` says; ``accept`` with the default
+    ``accept_residual`` = inf raises for nothing else): it is recorded as diverged (-1)."""
     out = np.zeros((len(omegas), len(ratios)))
     for j, q in enumerate(ratios):
         pq = problem.with_mass_ratio(q)
         for i, om in enumerate(omegas):
-            log, _ = couple(pq, settings_for("constant", om, tol, max_iterations, "accept"), 1)
+            try:
+                log, _ = couple(pq, settings_for("constant", om, tol, max_iterations, "accept"),
+                                1)
+            except CouplingError:
+                out[i, j] = -1
+                continue
             w = log.windows[0]
             if w.converged:
                 out[i, j] = w.iterations

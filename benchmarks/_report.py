@@ -1,0 +1,53 @@
+"""What every benchmark does with its result: one JSON object on stdout, and for a full run
+the same in ``docs/data/<name>.json`` (where the documentation reads it) with the commit and
+date it was measured at.
+
+A ``--smoke`` run (the small configuration CI runs, ``tests/test_benchmarks.py``) prints its
+JSON the same way but writes nothing into ``docs/data/``, and its figures and side files go to
+:func:`output_dir` ``(True)`` (``benchmarks/output/smoke/``) so that a full run's are kept.
+"""
+from __future__ import annotations
+
+import datetime
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+OUTPUT = Path(__file__).resolve().parent / "output"
+DOCS_DATA = ROOT / "docs" / "data"
+SMOKE_HELP = ("smoke test: the same code path on the smallest configuration (seconds); "
+              "writes nothing into docs/data")
+
+
+def output_dir(smoke: bool) -> Path:
+    """Where a run writes its figures and side files: ``benchmarks/output`` (full) or
+    ``benchmarks/output/smoke``."""
+    return OUTPUT / "smoke" if smoke else OUTPUT
+
+
+def commit() -> str:
+    """``git rev-parse --short HEAD`` of the checkout, or "unknown"."""
+    try:
+        out = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
+                             capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else "unknown"
+
+
+def emit(name: str, record: dict, smoke: bool, *, allow_nan: bool = True) -> None:
+    """Print ``record`` as one JSON object on one line of stdout; unless ``smoke``, also write
+    it with ``commit`` and ``date`` (ISO) to ``docs/data/<name>.json``.
+
+    ``name`` is the script's name without ``.py``; ``allow_nan`` as :func:`json.dumps`'s.
+    """
+    text = json.dumps(record, allow_nan=allow_nan)
+    if not smoke:
+        DOCS_DATA.mkdir(parents=True, exist_ok=True)
+        stamped = {**record, "commit": commit(), "date": datetime.date.today().isoformat()}
+        (DOCS_DATA / f"{name}.json").write_text(
+            json.dumps(stamped, indent=1, allow_nan=allow_nan) + "\n")
+    sys.stdout.write(text + "\n")
+    sys.stdout.flush()
