@@ -20,8 +20,8 @@ it is the chord step x+ = x - B0 r.
 Where this helps: a fold snapping inside a window makes H smooth but steep (on the valve
 fill, singular values of J up to about 900, cond(J - I) about 4e3), and the secants of
 100 iterations of IQN-ILS do not span it; the Jacobian at the best iterate does, and three
-steps from a residual of 1.8e-2 reached 3e-5 (README, 'Newton steps on a finite-difference
-Jacobian'). Where H jumps (a cut cell changing class within the window) no Jacobian helps.
+steps from a residual of 1.8e-2 reached 3e-5 (docs/notes/newton-steps.md).
+Where H jumps (a cut cell changing class within the window) no Jacobian helps.
 """
 from __future__ import annotations
 

@@ -41,7 +41,7 @@ dropped) and logs it. Except for a split window whose parts all converged, the w
 says ``converged = False``; ``explicit`` marks the redone one.
 Where "explicit" is meant: a fixed point that does not exist near the window's start, as when
 a quasi-static membrane's equilibrium path jumps (a fold snapping), which no smaller window
-mends (README, 'Slow fills').
+mends (docs/notes/slow-fills.md).
 
 Every scheme starts a window from a prediction of every field made from the converged values
 of past windows x^n, x^{n-1}, x^{n-2} (``extrapolation_order``, after preCICE's

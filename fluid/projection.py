@@ -405,7 +405,7 @@ def _memory_faces(model: FluidModel, state: FluidState, geometry: Geometry) -> n
     the face's own by dt/rho times the difference of the interpolated cell gradient and the
     face gradient of the pressure, and that difference is dissipated: an inviscid slosh mode
     whose pressure bends sharply at the cut cells (the diaphragm's) is damped at a zeta that
-    falls only with the step (README, 'Slosh with the diaphragm'). A face that keeps its
+    falls only with the step (docs/notes/second-order-window.md). A face that keeps its
     history instead evolves as a staggered grid's, u_f^{n+1} = u_f^n - dt/rho grad_f p^{n+1}
     without viscosity and convection (Choi 1999; the free surface's step does the same)."""
     if model.face_memory == "ring" or model.interface_condition != "wall":

@@ -26,7 +26,7 @@ the coupling window's start,
   Within a window's coupling iterations the map from the interface to the pressure is then
   continuous: under ``iteration`` a cell whose fraction sits at the threshold enters and
   leaves the fit from one iteration to the next, the nodes around it jump by kilopascals,
-  and the iteration stalls on the jump (README, 'The pressure cells of a window').
+  and the iteration stalls on the jump (docs/notes/pressure-cells.md).
 """
 from __future__ import annotations
 

@@ -5,7 +5,8 @@ procedure owns the tables only it uses (:mod:`fsi.procedures`, read from the reg
 :mod:`fsi.registry`). Every key has a type, a default and an allowed range; unknown keys, wrong
 types and out-of-range values raise :class:`SceneError` naming the key, the value and what is
 allowed, before anything is computed or written. The schema is the single place where
-defaults live; README's scene reference is generated from it (``fsi scenes --reference``).
+defaults live; the scene-key reference (docs/user-guide/scenes.md, 'Scene file reference') is
+generated from it (``fsi scenes --reference``).
 """
 from __future__ import annotations
 
@@ -61,11 +62,11 @@ COMMON: dict[str, Table] = {
         "wrinkling": Key(str, "none", *one_of(list(WRINKLING)),
                          "in-plane law of the xpbd model: 'tension-field' carries no "
                          "compression (a sheet too coarse to fold wrinkles instead of "
-                         "locking; README, 'The tension-field diaphragm')"),
+                         "locking; docs/notes/tension-field.md)"),
     }),
     "structure": Table({
         "model": Key(str, "auto", *one_of(["auto", *STRUCTURE_MODELS]),
-                     "membrane model of a volume sweep (README, 'Choosing a structure model'); "
+                     "membrane model of a volume sweep (docs/user-guide/choosing-a-model.md); "
                      "auto: the cheapest meeting structure.accuracy; a procedure that runs one "
                      "model only takes it (" + ", ".join(
                          f"{p.name}: {p.structure_model}" for p in PROCEDURES.values()
@@ -87,10 +88,12 @@ COMMON: dict[str, Table] = {
                            "in-plane strain limit (thesis ErrorLimit, %)"),
         "bend_limit_iterations": Key(int, 10, lambda v: 0 <= v <= 1000, "0..1000",
                                      "bend-limiting passes per step (thesis BendDamping); "
-                                     "thesis-ramp only, the static sweep runs without (README)"),
+                                     "thesis-ramp only, the static sweep runs without "
+                                     "(docs/models/thesis-membrane.md)"),
         "self_collision": Key(bool, False, lambda v: True, "true or false",
                               "self-collision (thesis CollisionDetection), both static "
-                              "procedures (the sweep is ~8x slower with it, README)"),
+                              "procedures (the sweep is ~8x slower with it, "
+                              "docs/models/thesis-membrane.md)"),
         "collision_buffer": Key(float, 1.0, lambda v: 0 < v <= 1, "0 < value <= 1",
                                 "collision distance / shortest rest edge (thesis Cbuffer)"),
         "constraint_iterations": Key(int, 1, lambda v: 1 <= v <= 100, "1..100",

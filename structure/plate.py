@@ -27,7 +27,8 @@ deflection w0 (m) and the profile w(r) by three estimates, each valid in its own
 
 The thesis's point (Sec. 3.1.4): the diaphragm of a propellant tank deflects far beyond every
 range, so the closed forms bound trends, not shapes.  Where each stops being right is measured
-against the shell model on a flat disc (``benchmarks/plate_estimates.py``; README).
+against the shell model on a flat disc (``benchmarks/plate_estimates.py``;
+docs/validation/membrane.md, 'The closed forms against the shell model').
 """
 from __future__ import annotations
 

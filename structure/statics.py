@@ -21,7 +21,8 @@ needed for the relaxation to settle (all are settings):
   (:func:`structure.kernels.bending_force`, ``offset_limited``): the thesis force flips between
   +-K_eq d on compressed, nearly straight triples;
 * no bend limiting (App. H) unless ``bend_limiting``: it keeps every two-cell chord near its rest
-  length and locks the fold at the rim (see README).
+  length and locks the fold at the rim (docs/models/thesis-membrane.md, 'How the static sweep
+  is solved').
 
 Volume control.  The liquid volume is a hard constraint V(x) = V_target whose multiplier is the
 uniform pressure level l (Pa) added to the hydrostatic field (the thesis's equivalent fluid

@@ -16,7 +16,7 @@ constraint moves; off, the step opens with the Verlet correction v = (x - x_prev
 a = (v - v_prev)/dt as App. B does.  Damping modes: ``none`` (c = 0), ``critical``
 (c = 2 sqrt(m k), k the node's bending stiffness) and ``courant-drag`` (c = the node's Courant
 number of the previous step, which is what the printed code does because its Courant loop
-overwrites ``c``; see README).
+overwrites ``c``; docs/user-guide/scenes.md, 'Thesis damping modes').
 """
 from __future__ import annotations
 

@@ -10,7 +10,8 @@ the same sum, per quad). The formula holds for any non-self-intersecting membran
 tank, folded or not, and is exact for the faceted (triangulated) membrane.
 
 The fill scale (:class:`FillScale`) maps volume to fill fraction between an empty and a full
-volume; :mod:`fsi.setup.fill` defines the project's scale (README, "Fill fraction and volume").
+volume; :mod:`fsi.setup.fill` defines the project's scale (docs/user-guide/scenes.md, 'Fill
+fraction and volume').
 """
 from __future__ import annotations
 

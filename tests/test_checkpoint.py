@@ -149,8 +149,10 @@ cells = 10
 """}
 
 
-@pytest.mark.parametrize("surface, sig", [("limp", signal.SIGKILL),
-                                          ("diaphragm", signal.SIGTERM)])
+@pytest.mark.parametrize("surface, sig", [
+    # SIGKILL's resume is the coupled fill's test's too (test_kill_9_then_resume_...)
+    pytest.param("limp", signal.SIGKILL, marks=pytest.mark.slow),
+    ("diaphragm", signal.SIGTERM)])
 def test_slosh_runs_resume_bit_for_bit(tmp_path, surface, sig):
     """A slosh run (either surface model) killed after a checkpoint (SIGKILL), or stopped
     (SIGTERM: the work done written, the last checkpoint kept beside it), and resumed: its

@@ -458,8 +458,8 @@ def test_accept_best_keeps_the_window_s_smallest_residual_iterate():
 
 
 def _stiff(on_max, max_iterations=4, newton_iterations=10, **pair):
-    """One window of a map whose Jacobian has norm 900 (the valve fill's, README 'Newton
-    steps on a finite-difference Jacobian') under IQN-ILS stopped after ``max_iterations``."""
+    """One window of a map whose Jacobian has norm 900 (the valve fill's,
+    docs/notes/newton-steps.md) under IQN-ILS stopped after ``max_iterations``."""
     s, f = _pair(n=12, gain=900.0, seed=2, **pair)
     settings = _settings("implicit-serial", "iqn-ils")
     settings.max_iterations = max_iterations

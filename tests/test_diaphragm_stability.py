@@ -1,7 +1,7 @@
 """Partitioned schemes on the Table 4.1 diaphragm (mass ratio m / (rho_f R) = 0.009): constant
 under-relaxation is stable below the added-mass bound and not above it, the explicit scheme
-diverges (Causin, Gerbeau & Nobile 2005; README, 'On the diaphragm itself').  The bound was
-measured between omega = 0.07 (converges) and 0.1 (does not) by
+diverges (Causin, Gerbeau & Nobile 2005; docs/validation/coupling.md, 'On the diaphragm
+itself').  The bound was measured between omega = 0.07 (converges) and 0.1 (does not) by
 ``benchmarks/diaphragm_stability.py``; the sphere's n = 1 estimate 2 m / (m + rho_f R) = 0.018
 lies below it (safe)."""
 import numpy as np
@@ -43,8 +43,8 @@ def test_explicit_scheme_diverges_where_iqn_ils_does_not():
 def test_coupled_fill_is_first_order_in_the_window():
     """Backward Euler windows: the level at t = 0.048 s from windows of 16, 8 and 4 ms (24, 12
     and 6 XPBD substeps of the same 0.667 ms, so that the membrane and its static start are
-    the same) converges at observed order ~1 (measured 1.42; README, 'Convergence of the
-    coupled fill')."""
+    the same) converges at observed order ~1 (measured 1.42;
+    docs/notes/coupled-fill-convergence.md)."""
     levels = []
     for window in (0.016, 0.008, 0.004):
         scene = load_scene("diaphragm-fill").with_keys(
@@ -69,11 +69,11 @@ def flat_family():
 def test_coupled_fill_of_a_flat_diaphragm_converges_in_the_membrane_grid(flat_family):
     """The coupled stack on a membrane that does not fold: ``diaphragm-fill`` with a flat
     diaphragm across the equator (``membrane.shape = "disc"``), started taut at tank
-    fraction 0.52, on N = 14, 20, 26 to t = 0.048 s (fsi.analysis.coupled_study's family; README,
-    'The flat diaphragm: the membrane grid converges'; measured: Eqn 6.1 against N = 26
-    0.276 and 0.093 %, observed orders 1.23 (level), 1.38 (centre z), 1.04 (shape)). Every
-    run converges, the differences shrink, and each order lies between 0.8 and 3; the
-    hemispherical diaphragm's family, folded, has none (README)."""
+    fraction 0.52, on N = 14, 20, 26 to t = 0.048 s (fsi.analysis.coupled_study's family;
+    docs/notes/flat-diaphragm.md; measured: Eqn 6.1 against N = 26 0.276 and 0.093 %,
+    observed orders 1.23 (level), 1.38 (centre z), 1.04 (shape)). Every run converges, the
+    differences shrink, and each order lies between 0.8 and 3; the hemispherical diaphragm's
+    family, folded, has none (docs/notes/coupled-fill-convergence.md)."""
     fam = flat_family
     assert all(r["failure"] == "" and r["start_converged"] for r in fam["runs"])
     e = [r["eqn_6_1_vs_finest"] for r in fam["runs"]]
@@ -87,11 +87,12 @@ def test_coupled_fill_of_a_flat_diaphragm_converges_in_the_membrane_grid(flat_fa
 def test_the_flat_diaphragms_grid_error_is_its_second_fixed_ring(flat_family):
     """The same family with the rim held by its ring on r = R only (``membrane.support =
     "simply-supported"``; the bending holds the rim's slope) instead of by a second ring one
-    grid edge inside it, whose width shrinks with N (README, 'The flat diaphragm's second
-    fixed ring'; measured: levels 172.5 / 171.5 / 168.4 Pa against 255.3 / 211.5 / 190.4 Pa,
-    Eqn 6.1 of N = 14 against N = 26 0.038 % against 0.276 %). The sheet's own grid error
-    is small beside the second ring's: the levels' spread under a tenth of the two-ring
-    family's, N = 14's shape error under a fifth, the centres' heights within 0.01 mm."""
+    grid edge inside it, whose width shrinks with N (docs/notes/lateral-compliance.md, 'The
+    flat diaphragm's second fixed ring'; measured: levels 172.5 / 171.5 / 168.4 Pa against
+    255.3 / 211.5 / 190.4 Pa, Eqn 6.1 of N = 14 against N = 26 0.038 % against 0.276 %). The
+    sheet's own grid error is small beside the second ring's: the levels' spread under a tenth
+    of the two-ring family's, N = 14's shape error under a fifth, the centres' heights within
+    0.01 mm."""
     from fsi.analysis.coupled_study import FLAT_RIM, family
 
     rim = family(FLAT_RIM, 0.048)
@@ -109,8 +110,8 @@ def test_the_flat_diaphragms_grid_error_is_its_second_fixed_ring(flat_family):
 
 @pytest.mark.slow
 def test_coupled_fill_converges_in_the_fluid_grid_and_the_coupling_tolerance():
-    """The slow members of the coupled fill's convergence study (fsi.analysis.coupled_study; README,
-    'Convergence of the coupled fill', measured: fluid cells 16/24/32 shape order 1.32,
+    """The slow members of the coupled fill's convergence study (fsi.analysis.coupled_study;
+    docs/notes/coupled-fill-convergence.md, measured: fluid cells 16/24/32 shape order 1.32,
     coupling tolerance 1e-3/1e-4/1e-5 shape order 1.05): each family's shape error against
     its finest falls (observed order > 0.5), and every run converges."""
     from fsi.analysis.coupled_study import family

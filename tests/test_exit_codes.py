@@ -1,4 +1,5 @@
-"""fsi run's exit status says whether everything converged (README, 'Exit status')."""
+"""fsi run's exit status says whether everything converged (docs/user-guide/cli.md,
+'Exit status')."""
 import numpy as np
 
 from fsi.cli import EXIT_NOT_CONVERGED, main, not_converged

@@ -79,12 +79,12 @@ def test_the_free_surface_first_mode_meets_the_static_limit():
 @pytest.mark.slow
 def test_the_flat_diaphragms_compliance_converges_when_held_by_its_rim_ring_only():
     """The flat diaphragm (``membrane.shape = "disc"``) at tank fraction 0.52, C at
-    b_x = 0.01 m/s^2 from the slosh run's own static start (README, 'The flat diaphragm's
-    second fixed ring'; measured: 1.2803 / 1.2832 / 1.2695e-3 s^2 on N = 14 / 20 / 26 with
-    the rim ring only, 2.440 / 4.504 / 5.836e-4 s^2 with two rings). Held by its rim ring
-    on r = R only, C moves less than 1.5 % from N = 14 to 20 to 26; with the two-ring
-    support N = 14's is under a third of it, because the second ring shortens the free
-    disc by one grid edge."""
+    b_x = 0.01 m/s^2 from the slosh run's own static start (docs/notes/lateral-compliance.md,
+    'The flat diaphragm's second fixed ring'; measured: 1.2803 / 1.2832 / 1.2695e-3 s^2 on
+    N = 14 / 20 / 26 with the rim ring only, 2.440 / 4.504 / 5.836e-4 s^2 with two rings).
+    Held by its rim ring on r = R only, C moves less than 1.5 % from N = 14 to 20 to 26; with
+    the two-ring support N = 14's is under a third of it, because the second ring shortens
+    the free disc by one grid edge."""
     from fsi.setup.build import build
     from fsi.procedures.slosh_diaphragm import start_compliance, static_start
     from fsi.scene import load_scene

@@ -98,10 +98,10 @@ def test_half_full_sphere_converges_to_budiansky_and_keeps_its_energy():
     """12^3 and 16^3 cells, 2 ms windows, 2 s (2.5 periods after the pulse). Measured:
     lambda1 -9.13 % and -4.95 % from Budiansky's 1.5602 (observed order 1.67; 1.75, 1.75 and
     1.80 over 16-20-24-32, where -1.17 % at 32^3 and Richardson's value from 24^3 and 32^3
-    at order 2 is within 0.12 %: README, 'The linearised free surface'); zeta 1e-5 and 2e-4; the
-    energy's period means within 2e-5 of each other. The moving free surface
-    (:mod:`fluid.free_surface`) loses 35 % of its energy over five periods at this fill on
-    16^3 (its surface changes cell layer twice a period)."""
+    at order 2 is within 0.12 %: docs/validation/slosh.md, 'The linearised free surface');
+    zeta 1e-5 and 2e-4; the energy's period means within 2e-5 of each other. The moving free
+    surface (:mod:`fluid.free_surface`) loses 35 % of its energy over five periods at this
+    fill on 16^3 (its surface changes cell layer twice a period)."""
     errors, spacing = [], []
     for cells in (12, 16):
         time, x, energy = _decay(cells, 2e-3, 2.0)
@@ -171,7 +171,8 @@ def test_cylinder_converges_to_lamb_at_second_order():
 def test_half_full_sphere_extrapolates_to_budiansky():
     """16^3, 24^3 and 32^3 cells, 2.5 s each (about 3 min): measured over 5 s, lambda1
     1.4830, 1.5269, 1.5419, observed order 1.66 from the three, and Richardson's value from
-    24^3 and 32^3 at order 2, 1.5584 (-0.12 %) (README, 'The linearised free surface')."""
+    24^3 and 32^3 at order 2, 1.5584 (-0.12 %) (docs/validation/slosh.md, 'The linearised
+    free surface')."""
     lam, h = [], []
     for cells in (16, 24, 32):
         time, x, _ = _decay(cells, 2e-3, 2.5)

@@ -9,9 +9,9 @@ by the strain limiter, which in pseudo-time acts as an in-plane stiffness ~ m / 
 then deflects as a Hencky membrane (extensible, no bending): w ~ q^(1/3) (Hencky 1915; the
 exponent is exact for the membrane), measured here, instead of w ~ q. At N = 14 and the default
 relaxation time step the centre deflection is about 2.6 x the plate value at q = 0.01 Pa and
-1.0 x at q = 0.04 Pa (README, "Plate check"). The plate oracle is kept as a strict expected
-failure for the thesis model; the calibrated bending of structure/bending.py meets it
-(tests/test_bending.py: centre deflection within 2.5 % at N = 26).
+1.0 x at q = 0.04 Pa (docs/validation/membrane.md, 'Plate check'). The plate oracle is kept
+as a strict expected failure for the thesis model; the calibrated bending of
+structure/bending.py meets it (tests/test_bending.py: centre deflection within 2.5 % at N = 26).
 """
 from dataclasses import replace
 

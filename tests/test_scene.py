@@ -129,8 +129,8 @@ def test_membrane_shape_key_builds_the_disc_where_the_procedure_runs_it():
 
 @pytest.mark.parametrize("name", ["thesis-fill", "thesis-drain"])
 def test_thesis_fill_and_drain_span_tank_fraction_0_1_to_0_9(name):
-    """The thesis's fill and drain (README, 'Slow fills'): end_time takes the port's flow from
-    tank fraction 0.1 to 0.9 or back."""
+    """The thesis's fill and drain (docs/notes/slow-fills.md): end_time takes the port's flow
+    from tank fraction 0.1 to 0.9 or back."""
     setup = build(load_scene(name))
     dyn = setup.scene["dynamics"]
     tank = 4.0 / 3.0 * 3.141592653589793 * setup.model.radius**3
@@ -140,20 +140,20 @@ def test_thesis_fill_and_drain_span_tank_fraction_0_1_to_0_9(name):
 
 
 SPLIT_UNCONVERGED_BY_SCENE = {"valve-fill": "parts", "valve-drain": "window"}
-"""What each valve scene keeps of a split whose smallest parts stall (README, 'A split that
-does not converge')."""
+"""What each valve scene keeps of a split whose smallest parts stall (docs/notes/split-windows.md,
+'A split that does not converge')."""
 
 
 @pytest.mark.parametrize("name, start, end", [("valve-fill", 0.1, 0.9),
                                                ("valve-drain", 0.9, 0.1)])
 def test_valve_fill_and_drain_span_0_1_to_0_9_with_mixing_in_their_coupling(name, start, end):
-    """The valve fill and drain (README, 'With mixing: the valve fill to completion'): they
-    start at one end of 0.1..0.9, their windows end at or past the other, within one window,
-    their coupling carries mixing, their pressure is fitted from each window's starting
-    cells ('The pressure cells of a window'), the liquid gets each window's mean velocity
-    ('The velocity the liquid sees'), and a stalled window is split three times at most, a
-    try stopped after 30 iterations without halving its best residual ('Stalled windows
-    redone in halves', 'A stalled try stopped early', 'A split that does not converge')."""
+    """The valve fill and drain (docs/notes/valve-fill.md, 'With mixing'): they start at one
+    end of 0.1..0.9, their windows end at or past the other, within one window, their coupling
+    carries mixing, their pressure is fitted from each window's starting cells
+    (docs/notes/pressure-cells.md), the liquid gets each window's mean velocity
+    (docs/notes/valve-drain.md, 'The velocity the liquid sees'), and a stalled window is split
+    three times at most, a try stopped after 30 iterations without halving its best residual
+    (docs/notes/split-windows.md)."""
     from fsi.procedures.coupled import coupling_settings
 
     setup = build(load_scene(name))
@@ -187,8 +187,8 @@ def test_accept_residual_reaches_the_coupling_and_is_checked():
 
 def test_pressure_fit_and_centre_cells_reach_the_liquid_and_are_checked():
     """``fluid.pressure_fit`` reaches the liquid's model, ``fluid.centre_cells`` its
-    participant (README, 'Where a window stalls short of its tolerance'); both default to the
-    liquid's map as it was."""
+    participant (docs/notes/stalled-windows.md); both default to the liquid's map as it
+    was."""
     from types import SimpleNamespace
 
     from fsi.procedures.coupled_fill import assemble, membrane_settings
@@ -213,8 +213,9 @@ def test_pressure_fit_and_centre_cells_reach_the_liquid_and_are_checked():
 
 
 def test_interface_velocity_reaches_the_membrane_and_is_checked():
-    """``coupling.interface_velocity`` picks what the membrane sends the liquid (README, 'The
-    velocity the liquid sees'); the default is the membrane's own end velocity."""
+    """``coupling.interface_velocity`` picks what the membrane sends the liquid
+    (docs/notes/valve-drain.md, 'The velocity the liquid sees'); the default is the
+    membrane's own end velocity."""
     from types import SimpleNamespace
 
     from fsi.coupled.adapters import INTERFACE_VELOCITIES

@@ -73,7 +73,8 @@ def test_equilibrium_holds_the_volume_and_balances_forces(setup, law):
 @pytest.mark.parametrize("name", sorted(STRUCTURE_MODELS))
 def test_every_model_runs_a_volume_sweep(name):
     """The thesis model needs N = 20 here: at N <= 14 every free node of its rest shape lies
-    on the wall and its relaxation holds them there (README, known limits)."""
+    on the wall and its relaxation holds them there (docs/validation/membrane.md, 'Speed
+    against accuracy, grid convergence')."""
     from fsi.procedures import PROCEDURES
 
     grid = 20 if name == "thesis" else 10

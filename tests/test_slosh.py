@@ -196,7 +196,7 @@ youngs_modulus = {youngs}
 [slosh]
 fill = 0.5
 surface = "diaphragm"
-# converged at N = 10: 16 and 64 sweeps give 8.5697 and 8.5693 Hz (README)
+# converged at N = 10: 16 and 64 sweeps give 8.5697 and 8.5693 Hz (docs/notes/slosh-diaphragm.md)
 constraint_sweeps = 16
 end_time = {end}
 analysis_start = {start}
@@ -241,10 +241,12 @@ def test_diaphragm_at_rest_stays_at_rest():
     assert a["tank_fraction"] == pytest.approx(0.5, rel=1e-4)
 
 
+@pytest.mark.slow
 def test_diaphragm_stiffens_the_first_mode():
     """The clamped, prestressed diaphragm raises the first mode far above the free
     surface's lambda1 = 1.5602 (Budiansky 1960), and a softer membrane (E / 10) lowers it
-    again: the shift is the membrane's stiffness (README, "Slosh with the diaphragm")."""
+    again: the shift is the membrane's stiffness (docs/notes/slosh-diaphragm-by-fill.md, 'One
+    property at a time')."""
     stiff = _diaphragm().attrs
     soft = _diaphragm(youngs=8.6e5).attrs
     assert not stiff.get("analysis_failure") and not soft.get("analysis_failure")
@@ -318,7 +320,7 @@ def test_bdf2_window_keeps_the_diaphragms_slosh_energy():
     windows (liquid and membrane, coupling.time_scheme) the energy after the pulse is kept
     within 15 % and each mode's |zeta| is under 0.01 (measured with this scene's 16 sweeps:
     Euler zeta 0.044 and 0.047, BDF2 0.0013 and 0.0020, energy -4.8 % from the first tenth
-    of a second after the pulse to the last; README, "Slosh with the diaphragm")."""
+    of a second after the pulse to the last; docs/notes/second-order-window.md)."""
     runs = {s: _diaphragm(viscosity=0.0, scheme=s) for s in ("euler", "bdf2")}
     t = runs["bdf2"].groups["windows"]["time"]
     first, last = (t >= 0.15) & (t < 0.25), t >= 0.9
@@ -341,7 +343,7 @@ def test_faces_that_keep_their_history_leave_the_diaphragms_slosh_undamped():
     ``fluid.face_memory = "ring"``) the first mode is damped far above BDF2's own
     (omega dt)^3 / 4 = 2e-5; with every face keeping its history neither mode is damped or
     grows beyond a tenth of water's physical zeta 0.004 (measured over 1.5 s: 0.0045 against
-    -0.0002 and -0.00003; README, "Slosh with the diaphragm")."""
+    -0.0002 and -0.00003; docs/notes/second-order-window.md)."""
     runs = {}
     for memory in ("ring", "every-face"):
         scene = load_scene("slosh-diaphragm")

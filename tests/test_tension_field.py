@@ -138,7 +138,7 @@ def test_released_wrinkled_sheet_does_not_gain_energy(discs):
     elastic energy may only fall, up to the substeps' error. Measured over 0.2 s of 1 ms
     windows: at most +0.98 %; the earlier block (the relaxed value with the unrelaxed
     strain's gradients for a wrinkled triangle) gained +7.0 % here and ran away on the
-    N = 26 diaphragm (README, 'The tension-field sheet at rest')."""
+    N = 26 diaphragm (docs/notes/tension-field.md, 'The tension-field sheet at rest')."""
     from structure.xpbd.dynamics import step
 
     model = discs["tension-field"]

@@ -7,18 +7,18 @@ The case: the bundled ``diaphragm-fill`` (Table 4.1 diaphragm, start at tank fra
 
 * fluid grid 16^3, 24^3, 32^3 cells;
 * membrane grid N = 14, 20, 26, under the full law (each grid's own start, and every grid's
-  start carried from N = 14's, ``dynamics.start_grid``: one fold state, README, 'One fold
-  state through the grids') and under the tension field
-  (``membrane.wrinkling``: compression relaxed, README, 'The tension-field diaphragm'), and
+  start carried from N = 14's, ``dynamics.start_grid``: one fold state,
+  docs/notes/one-fold-state.md) and under the tension field (``membrane.wrinkling``:
+  compression relaxed, docs/notes/tension-field.md), and
   the tension field one grid further, N = 20, 26, 32 (about 17 min, so not in
   :data:`DEFAULT_FAMILIES`);
 * membrane grid N = 14, 20, 26 of a flat diaphragm (``membrane.shape = "disc"``, started at
   tank fraction 0.52, the sheet taut: no folds), and one grid further, N = 20, 26, 38 (not
   in :data:`DEFAULT_FAMILIES`): the same coupled stack where the membrane has a converged
-  answer to approach (README, 'The flat diaphragm: the membrane grid converges'); and the
-  same two with the rim held by its ring on r = R only (``membrane.support =
-  "simply-supported"``), not by a second ring one grid edge inside it whose width changes
-  with N (README, 'The flat diaphragm's second fixed ring');
+  answer to approach (docs/notes/flat-diaphragm.md); and the same two with the rim held by
+  its ring on r = R only (``membrane.support = "simply-supported"``), not by a second ring
+  one grid edge inside it whose width changes with N (docs/notes/lateral-compliance.md, 'The
+  flat diaphragm's second fixed ring');
 * window 16, 8, 4 ms with ``dynamics.substep_fraction`` 0.266: 24, 12 and 6 XPBD substeps of
   the same 0.667 ms (at the scene's 0.3 an 8 ms window would take 11 of 0.727 ms).  The
   substep must stay: plain XPBD substeps (one sweep each) make the membrane's stiffness

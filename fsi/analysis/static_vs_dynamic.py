@@ -18,7 +18,7 @@ run's own static start by the same solve (:func:`against_static` ``along_path``)
 equilibrium sought from the frame's own shape (:func:`against_static`, the default: the
 same fold state, so the difference is what the dynamics add).  On the N = 14 diaphragm the
 first two differ from the third by the fold states: the equilibria are not unique, and a
-path settles into one or another (README, 'Static against dynamic').
+path settles into one or another (docs/validation/static-vs-dynamic.md).
 
 The flow study (:func:`flow_case`, :data:`FLOWS`): from the static start at tank fraction
 ``START_FILL``, ``FILL_STEP`` of the tank filled through the port at each flow, slow to a

@@ -21,7 +21,7 @@ from its start at RETRY_FACTOR of its size, up to RETRIES times and not below
 ``min_window`` (``windows_redone``).  Why a floor: a quasi-static window (membrane in
 equilibrium, liquid with its inertia) loses its fixed point below about 0.1 s on the thesis's
 diaphragm, where the liquid's answer to the membrane solve's own tolerance, rho L dx / dt^2,
-outgrows the pressure; measured in README, 'Slow fills'.
+outgrows the pressure; measured in docs/notes/slow-fills.md.
 """
 from __future__ import annotations
 

@@ -75,8 +75,8 @@ START_GRID = Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
                  "0, or an even N0 >= 4 not above membrane.grid_size",
                  "0: the static start relaxed on membrane.grid_size itself; N0: relaxed on the "
                  "grid N0, carried to membrane.grid_size and polished there by the shell model, "
-                 "so that runs on several grids start from one fold state (README, 'One fold "
-                 "state through the grids')")
+                 "so that runs on several grids start from one fold state "
+                 "(docs/notes/one-fold-state.md)")
 """dynamics.start_grid and slosh.start_grid (:mod:`fsi.setup.carried_start`)."""
 
 DYNAMICS = Table({
@@ -87,12 +87,12 @@ DYNAMICS = Table({
     "window_tolerance": Key(float, 0.0, lambda v: v >= 0, ">= 0 m",
                             "0: fixed windows; > 0: windows grow and shrink so that the local "
                             "error of the membrane's node positions per window stays near it "
-                            "(m; README, 'Dynamic fill')"),
+                            "(m; docs/models/coupling.md, 'Windows sized by their error')"),
     "max_window": Key(float, 1.0, lambda v: 0 < v <= 100, "0 < value <= 100 s",
                       "largest window with window_tolerance (s)"),
     "min_window": Key(float, 0.0, lambda v: 0 <= v <= 100, "0 <= value <= 100 s",
                       "smallest window with window_tolerance (s), also for windows redone "
-                      "after a coupling failure; 0: none (README, 'Slow fills')"),
+                      "after a coupling failure; 0: none (docs/notes/slow-fills.md)"),
     "end_time": Key(float, 0.2, positive, "> 0 s", "simulated time (s)"),
     "checkpoint_interval": Key(int, 0, lambda v: v >= 0, ">= 0",
                                "windows between checkpoints (fsi run --resume continues from "
@@ -103,20 +103,21 @@ DYNAMICS = Table({
                           "windows between recorded frames"),
     "substep_fraction": Key(float, XPBD_COURANT_FRACTION, lambda v: 0 < v <= 1,
                             "0 < value <= 1", "XPBD substep / explicit limit of the load "
-                            "(0.3: about 1 % stiffness bias, README)"),
+                            "(0.3: about 1 % stiffness bias, "
+                            "docs/models/continuum-membranes.md, 'XPBD')"),
     "start_grid": START_GRID,
     "node_damping": Key(float, 0.0, lambda v: 0 <= v <= 10, "0 <= value <= 10 N s/m",
                         "coupling.time_scheme = euler, or quasi-static (its windows with the "
                         "membrane's inertia): c of the membrane substeps' damping of each "
                         "node's velocity relative to its neighbours', c sum_j (v_j - v_i) "
-                        "(N); 0: none (README, 'Node damping')"),
+                        "(N); 0: none (docs/notes/node-damping.md)"),
 }, _check_dynamics)
 """[dynamics]: start, windows and frames of a coupled run."""
 
 MOTION = Table({
     "kind": Key(str, "none", *one_of(sorted(MOTIONS)),
                 "tank acceleration a(t); the liquid feels liquid.body_acceleration - a(t) "
-                "(README, 'Tank motion')"),
+                "(docs/user-guide/procedures.md, 'Tank motion')"),
     "amplitude": Key(list, [0.0, 0.0, 0.0], is_vec3, "three finite numbers (m/s^2)",
                      "sine: a = amplitude sin(2 pi frequency t); impulse: the peak (m/s^2)"),
     "frequency": Key(float, 1.0, lambda v: v >= 0, ">= 0 Hz", "sine: frequency (Hz)"),
@@ -161,47 +162,46 @@ FLUID = Table({
                       "the liquid's convective term rho (u . grad) u: upwind (implicit, first "
                       "order: a numerical viscosity of about |u| h / 2) or none (the "
                       "linearised liquid of small-amplitude slosh, whose closed forms are "
-                      "linear; README, 'Energy and linearity')"),
+                      "linear; docs/validation/slosh.md, 'Energy and linearity')"),
     "volume": Key(str, "cut-cells", *one_of(sorted(FLUID_VOLUMES)),
                   "liquid volume the cut cells hold: cut-cells (the lattice level set's own, "
                   "off the membrane's by O(h^2), 1 % at 16 cells) or membrane (the interface "
                   "shifted along its normal so that they hold the membrane's exact volume; "
-                  "README, 'Volume bookkeeping'; a limp surface holds its volume itself)"),
+                  "docs/notes/slow-fills.md; a limp surface holds its volume itself)"),
     "face_memory": Key(str, "ring", *one_of(FACE_MEMORIES),
                        "which of the liquid's face velocities keep their own history from step "
                        "to step: ring (only the faces between two wall-centred cells; the rest "
                        "re-interpolated from the cells each step, Rhie-Chow, which damps the "
                        "diaphragm's inviscid slosh at zeta 0.0045 with 1 ms BDF2 windows) or "
                        "every-face (every face wetted before and after the step: zeta under "
-                       "0.0003 there; the limp surface's step keeps every face's always; README, "
-                       "'Slosh with the diaphragm')"),
+                       "0.0003 there; the limp surface's step keeps every face's always; "
+                       "docs/notes/second-order-window.md)"),
     "pressure_map": Key(str, "node-fit", *one_of(sorted(PRESSURE_MAPS)),
                         "how the cells' pressure reaches the membrane's nodes: node-fit (a "
                         "least-squares plane through the liquid cells around each node), "
                         "surface-mean (that plane's mean over the sheet around each node, hat "
                         "weights) or cell-mean (the same mean of each cut cell's own "
-                        "pressure, the work of the cut cells' volume change; README, 'Slosh "
-                        "with the diaphragm')"),
+                        "pressure, the work of the cut cells' volume change; "
+                        "docs/notes/second-order-window.md)"),
     "pressure_cells": Key(str, "iteration", *one_of(sorted(CELL_WEIGHTS)),
                           "which liquid cells the pressure map fits from: iteration (those "
                           "holding at least a quarter cell of liquid, chosen anew at every "
                           "coupling iteration) or window (those holding it at the window's "
                           "start, faded out below an eighth: the map is then continuous over "
-                          "the window's iterations; README, 'The pressure cells of a "
-                          "window')"),
+                          "the window's iterations; docs/notes/pressure-cells.md)"),
     "pressure_fit": Key(str, "block", *one_of(sorted(FIT_KERNELS)),
                         "the weights of the pressure's least-squares plane around a point: "
                         "block (liquid fraction / (1 + d^2 / h^2) over the 4 x 4 x 4 cells "
                         "around it: the value jumps when the point crosses a plane of cell "
                         "centres) or tapered (the same times a factor that falls to zero at "
-                        "the block's edge: continuous in the point's position; README, 'Where "
-                        "a window stalls short of its tolerance')"),
+                        "the block's edge: continuous in the point's position; "
+                        "docs/notes/stalled-windows.md)"),
     "centre_cells": Key(str, "iteration", *one_of(list(CENTRE_CELLS)),
                         "which cells carry the liquid's velocity in a window's coupling "
                         "iterations: iteration (those whose centre is in the liquid, anew at "
                         "each iteration: a centre the membrane crosses makes the pressure jump) "
                         "or window (those of the window's start, held over its iterations; "
-                        "README, 'Where a window stalls short of its tolerance')"),
+                        "docs/notes/stalled-windows.md)"),
 })
 """[fluid]: the immersed-boundary liquid (:mod:`fluid`)."""
 
@@ -241,17 +241,17 @@ COUPLING = Table({
                        "time integration of a window: euler (liquid backward Euler, membrane "
                        "substeps under the window's end pressure: first order, damps a mode "
                        "at about omega dt / 2) or bdf2 (liquid and membrane one BDF2 step, "
-                       "every force at the window's end: second order; README, 'Slosh with "
-                       "the diaphragm') or quasi-static (liquid backward Euler, the membrane in "
-                       "equilibrium at each window's end, no inertia: slow fills with long "
-                       "windows; README, 'Dynamic fill')"),
+                       "every force at the window's end: second order; "
+                       "docs/notes/second-order-window.md) or quasi-static (liquid backward "
+                       "Euler, the membrane in equilibrium at each window's end, no inertia: "
+                       "slow fills with long windows; docs/notes/slow-fills.md)"),
     "interface_velocity": Key(str, "membrane", *one_of(sorted(INTERFACE_VELOCITIES)),
                               "the node velocities the liquid gets with the window's end "
                               "positions: membrane (the membrane's own at the window's end, "
                               "its last substep's) or window-mean ((x_end - x_start)/dt, the "
                               "backward Euler liquid's own: a sheet snapping inside a window "
-                              "does not reach the liquid as one node's spike; README, 'The "
-                              "velocity the liquid sees')"),
+                              "does not reach the liquid as one node's spike; "
+                              "docs/notes/valve-drain.md, 'The velocity the liquid sees')"),
     "acceleration": Key(str, "iqn-ils", *one_of(sorted(ACCELERATIONS)),
                         "acceleration of the interface pressure"),
     "relaxation": Key(float, 0.01, lambda v: 0 < v <= 1, "0 < value <= 1",
@@ -262,8 +262,9 @@ COUPLING = Table({
     "filter_limit": Key(float, 1e-2, lambda v: 0 < v < 1, "0 < value < 1", "IQN QR2 filter"),
     "max_columns": Key(int, 100, lambda v: v >= 1, ">= 1", "IQN secant columns at most"),
     "mixing": Key(float, 1.0, lambda v: 0 < v <= 1, "0 < value <= 1",
-                  "IQN-ILS and IQN-IMVJ: relaxation of the residual outside the secants' span (Anderson's "
-                  "beta; 1: IQN-ILS as published; README, 'Mixing')"),
+                  "IQN-ILS and IQN-IMVJ: relaxation of the residual outside the secants' "
+                  "span (Anderson's beta; 1: IQN-ILS as published; docs/models/coupling.md, "
+                  "'Mixing')"),
     "jacobian_windows": Key(int, 0, lambda v: 0 <= v <= 1000, "0..1000",
                             "iqn-imvj: past windows whose secants make the carried inverse "
                             "Jacobian (0: every window since the last restart; a window "
@@ -282,12 +283,11 @@ COUPLING = Table({
                              "and log it, redo it once by the explicit scheme and log it, or "
                              "go on from its best iterate by Newton steps on a "
                              "finite-difference Jacobian (one solve pair per node; if they do "
-                             "not converge, the best iterate is accepted and logged; README, "
-                             "'Newton steps on a finite-difference Jacobian'), or redo it from "
-                             "its start as two windows of half its size, a half that does not "
-                             "converge halved again, split_depth times at most, the smallest's "
-                             "best iterate accepted (README, 'Stalled windows redone in "
-                             "halves')"),
+                             "not converge, the best iterate is accepted and logged; "
+                             "docs/notes/newton-steps.md), or redo it from its start as two "
+                             "windows of half its size, a half that does not converge halved "
+                             "again, split_depth times at most, the smallest's best iterate "
+                             "accepted (docs/notes/split-windows.md)"),
     "split_depth": Key(int, 3, lambda v: 1 <= v <= 20, "1..20",
                        "on_max_iterations = split: how many times a window may be halved "
                        "(its smallest parts 2^-split_depth of it)"),
@@ -295,8 +295,8 @@ COUPLING = Table({
                             "on_max_iterations = split: a try that is not the last level's "
                             "stops and is split once its best residual (the largest over its "
                             "tolerance) has not fallen to stall_reduction of itself in this "
-                            "many iterations (0: it runs max_iterations; README, 'A stalled "
-                            "try stopped early')"),
+                            "many iterations (0: it runs max_iterations; "
+                            "docs/notes/split-windows.md, 'A stalled try stopped early')"),
     "stall_reduction": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
                            "on_max_iterations = split, with stall_iterations > 0: the fraction "
                            "of itself the best residual must fall to"),
@@ -304,8 +304,8 @@ COUPLING = Table({
                              "on_max_iterations = split: what a split window keeps when some "
                              "of its smallest parts do not converge: parts (those parts' best "
                              "iterates) or window (the whole window redone from its start, its "
-                             "best iterate kept as accept-best keeps it; README, 'A split that "
-                             "does not converge')"),
+                             "best iterate kept as accept-best keeps it; "
+                             "docs/notes/split-windows.md, 'A split that does not converge')"),
     "newton_iterations": Key(int, 10, lambda v: 1 <= v <= 1000, "1..1000",
                              "on_max_iterations = newton: steps on the finite-difference "
                              "Jacobian at most"),
@@ -317,7 +317,7 @@ COUPLING = Table({
                            "per iteration, pressure or positions) a window that did not "
                            "converge is accepted at; above it the window stops the run as with "
                            "error, or is redone smaller where dynamics.window_tolerance > 0 "
-                           "(README, 'The valve drain')"),
+                           "(docs/notes/valve-drain.md)"),
     "extrapolation_order": Key(int, 0, *one_of(sorted(EXTRAPOLATION_WEIGHTS)),
                                "prediction of a window's start from past windows"),
 }, _check_coupling)

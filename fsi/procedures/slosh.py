@@ -111,11 +111,13 @@ SLOSH = Table({
                             "the load"),
     "constraint_sweeps": Key(int, XPBD_DYNAMIC_SWEEPS, lambda v: 1 <= v <= 1000, "1..1000",
                              "diaphragm: Gauss-Seidel sweeps of the XPBD constraints per "
-                             "substep (too few leave the membrane soft, README)"),
+                             "substep (too few leave the membrane soft, "
+                             "docs/notes/slosh-diaphragm.md)"),
     "start_tolerance": Key(float, START_TOLERANCE, lambda v: 0 < v <= 1e-5, "0 < value <= 1e-5",
                            "diaphragm: the static start (and its tilted solves) converged when "
                            "no node moves more than this fraction of its size per substep "
-                           "(looser: tilted solves stop before they move; README)"),
+                           "(looser: tilted solves stop before they move; "
+                           "docs/notes/tension-field.md)"),
     "start_grid": replace(START_GRID, doc="diaphragm: " + START_GRID.doc),
     "end_time": Key(float, 5.0, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 25, lambda v: v >= 1, ">= 1",
@@ -208,7 +210,8 @@ def run_windows(setup, run: Run, start: Start, body, window: float, n_windows: i
 def stokes_attrs(scene, radius: float, omega: float) -> dict:
     """The first mode's wall boundary layer (:func:`fsi.slosh.analysis.stokes_layer`, m) and
     its thickness in cells of the liquid's grid: a fitted zeta holds the wall's viscous
-    damping only where the grid resolves that layer (README, 'Slosh with the diaphragm')."""
+    damping only where the grid resolves that layer (docs/models/slosh.md, 'The liquid's
+    damping')."""
     h = tank_spacing(radius, scene["fluid"]["cells"], axisymmetric=False)
     delta = stokes_layer(scene["fluid"]["viscosity"], scene["liquid"]["density"], omega)
     return dict(stokes_layer=delta, stokes_layer_cells=delta / h)

@@ -6,7 +6,7 @@ grid N0 the start is relaxed on the grid N0 (the same scene otherwise), carried 
 grid (:func:`structure.prolongation.prolong`) and polished there to the shell model's exact
 minimum holding the same liquid volume (:mod:`structure.shell`): the N0 state, refined
 (:func:`polish`). The caller then settles it under its own solver (its XPBD substeps), as it
-would any start. README, 'One fold state through the grids'.
+would any start. See docs/notes/one-fold-state.md.
 """
 from __future__ import annotations
 

@@ -80,12 +80,13 @@ XPBD_POLISH = XpbdSettings(warm_start=True, max_steps=50_000)
 """Warm-started quasi-static substeps: the dt-independent equilibrium where they converge."""
 XPBD_COURANT_FRACTION = 0.3
 """Substep as a fraction of the explicit limit of the pressure load (:mod:`fsi.setup.limits`), per
-grid: about 1 % stiffness bias (README); the statics' substep and the dynamics' default."""
+grid: about 1 % stiffness bias (docs/models/continuum-membranes.md, 'XPBD'); the statics'
+substep and the dynamics' default."""
 XPBD_DYNAMIC_SWEEPS = 64
 """Gauss-Seidel sweeps of the XPBD constraints per substep of a slosh run's diaphragm, its
 start included: fewer leave the constraints unconverged, the membrane soft and its folds
 elsewhere (half fill, N = 14, 16^3, single damped cosine fitted to x: 4.28 / 6.78 / 7.73 /
-7.031 / 7.032 Hz with 1 / 16 / 32 / 64 / 128 sweeps; README, 'Slosh with the diaphragm')."""
+7.031 / 7.032 Hz with 1 / 16 / 32 / 64 / 128 sweeps; docs/notes/slosh-diaphragm.md)."""
 
 
 def statics_substep(setup) -> float:

@@ -33,7 +33,7 @@ from structure.volume import liquid_first_moment
 DEFAULT_TILT = 0.05
 """Lateral body acceleration (m/s^2) of the two tilted solves, +- this: 0.5 % of g. The
 Table 4.1 diaphragm's start at half fill gives C at 0.05 and at 0.01 m/s^2 within 0.4 / 2.7 /
-9 / 0.5 / 1.5 % at N = 10 / 14 / 20 / 26 / 38 (README, "The static lateral compliance")."""
+9 / 0.5 / 1.5 % at N = 10 / 14 / 20 / 26 / 38 (docs/notes/lateral-compliance.md)."""
 
 
 @dataclass(frozen=True)

@@ -16,9 +16,9 @@ For cases that record frames at requested fills (a ``volume-sweep``'s filling le
 dimension ``fill`` (the requested fills, on the run's ``fill_scale``) and, per case and fill,
 ``fill_tank_fraction``, ``fill_pressure_level``, ``fill_equivalent_height``,
 ``fill_strain_error``, ``fill_converged`` and ``fill_wall_seconds`` (the frames' datasets,
-README "Output"); with ``sweep.reference``, ``fill_shape_error`` (Eqn 6.1 %, the case's shape
-against the reference case's frame nearest in tank fraction) and its mean over the fills,
-``shape_error``.
+docs/user-guide/outputs.md); with ``sweep.reference``, ``fill_shape_error`` (Eqn 6.1 %, the
+case's shape against the reference case's frame nearest in tank fraction) and its mean over the
+fills, ``shape_error``.
 
 Vector-valued keys' coordinates are written as text ('0.5x0x0').
 """

@@ -16,8 +16,8 @@ wavelength)^2, hardly at all, and less still once the liquid's added mass moves 
 
 Why it is there: the liquid's grid (a cell about one node spacing across) cannot resist a
 single node's oscillation, so a node snapping inside a window moves as the dry sheet would,
-at metres per second, and the coupling's fixed point is lost (README, 'Node damping'). The
-term is an artificial viscosity of the sheet, not a measured property of the rubber.
+at metres per second, and the coupling's fixed point is lost (docs/notes/node-damping.md).
+The term is an artificial viscosity of the sheet, not a measured property of the rubber.
 """
 from __future__ import annotations
 

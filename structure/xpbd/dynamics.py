@@ -155,7 +155,7 @@ def quasi_static_step(model: XpbdModel, state: MembraneState, load: Load, dt: fl
 
     Where it holds: fills slow against the membrane's own periods (the membrane's kinetic
     energy negligible), where a window many times the explicit limit is wanted; the liquid
-    keeps its inertia (README, 'Dynamic fill').  Raises :class:`XpbdDivergence` when the
+    keeps its inertia (docs/notes/slow-fills.md).  Raises :class:`XpbdDivergence` when the
     substeps do not reach the equilibrium."""
     if not dt > 0:
         raise ValueError(f"xpbd window duration must be > 0 s, got {dt!r}")

@@ -1,0 +1,132 @@
+"""The README and the documentation stay true to the code.
+
+- The README is a front door: at most 250 lines, and its scene table lists every bundled scene
+  with the description the scene file gives and the wall time that ``benchmarks/scene_times.py``
+  measured (``docs/data/scene_times.json``).
+- The documentation's scene-key and output references are generated from the code at build
+  time (``docs/_ext/generated.py``); the pages include them rather than copies.
+- Every scene key the documentation names in running text exists in the schema, or in a sweep
+  file's ``[sweep]`` table (the notes, which record studies at the commit they measured,
+  excepted).
+- Every dataset a run writes is in the output reference, with the units the reference gives.
+"""
+from __future__ import annotations
+
+import importlib.util
+import json
+import re
+from pathlib import Path
+
+import h5py
+
+from fsi.cli import main
+from fsi.io.output import reference_markdown as output_reference
+from fsi.scene import SCHEMA, bundled_scenes, load_scene
+from fsi.sweep.file import SWEEP_KEYS
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+README = ROOT / "README.md"
+README_MAX_LINES = 250
+FILE_SUFFIXES = {"nc", "png", "h5", "xdmf", "toml", "json", "md", "py", "obj", "csv", "pkl", "ipynb"}
+"""``name.suffix`` in backticks is a file, not a scene key."""
+SCENE_ROW = re.compile(r"^\| `([a-z0-9-]+)` \| (.+?) \| (.+?) \|$")
+
+
+def wall_text(seconds: float) -> str:
+    """How the README writes a wall time: '8 s', '2 min 05 s', '1 h 02 min'."""
+    seconds = round(seconds)
+    if seconds < 60:
+        return f"{seconds} s"
+    if seconds < 3600:
+        return f"{seconds // 60} min {seconds % 60:02d} s"
+    return f"{seconds // 3600} h {seconds % 3600 // 60:02d} min"
+
+
+def scene_rows() -> list[str]:
+    """The README's scene table rows, as the code and the measured times give them."""
+    times = json.loads((DOCS / "data" / "scene_times.json").read_text())["scenes"]
+    rows = []
+    for name in bundled_scenes():
+        run = times[name]
+        status = "" if run["exit_code"] == 0 else f" (exit {run['exit_code']})"
+        rows.append(f"| `{name}` | {load_scene(name)['scene']['description']} | "
+                    f"{wall_text(run['wall_seconds'])}{status} |")
+    return rows
+
+
+def test_the_pages_include_the_references_generated_from_the_code():
+    assert "{include} ../_generated/scene_keys.md" in (DOCS / "user-guide" / "scenes.md").read_text()
+    assert "{include} ../_generated/outputs.md" in (DOCS / "user-guide" / "outputs.md").read_text()
+    generator = (DOCS / "_ext" / "generated.py").read_text()
+    assert '"fsi.scene", "reference_markdown"' in generator
+    assert '"fsi.io.output", "reference_markdown"' in generator
+
+
+def _is_module(name: str) -> bool:
+    try:
+        return importlib.util.find_spec(name) is not None
+    except (ImportError, ValueError):
+        return False
+
+
+def test_every_scene_key_the_documentation_names_exists():
+    key = re.compile(r"`([a-z_]+)\.([a-z_0-9]+)(?: = [^`]*)?`")
+    unknown = []
+    pages = [README] + [p for p in DOCS.rglob("*.md")
+                        if not {"notes", "_generated", "_build"} & set(p.relative_to(DOCS).parts)]
+    for page in pages:
+        for section, name in key.findall(page.read_text()):
+            if section in SCHEMA and name not in SCHEMA[section] and name not in FILE_SUFFIXES \
+                    and not (section == "sweep" and name in SWEEP_KEYS) \
+                    and not _is_module(f"{section}.{name}"):
+                unknown.append(f"{page.relative_to(ROOT)}: {section}.{name}")
+    assert not unknown, "scene keys named in the documentation but not in the schema:\n" + \
+        "\n".join(unknown)
+
+
+def _documented_units() -> dict[str, str]:
+    """Name (or name pattern) -> units, read from the generated output reference."""
+    units = {}
+    for line in output_reference().splitlines():
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        if len(cells) == 2 and cells[0].startswith("`"):
+            units[cells[0].strip("`")] = cells[1]
+    return units
+
+
+def _documented(name: str, documented: dict[str, str]) -> str | None:
+    """The documented units of dataset ``name``, by its name or a name pattern."""
+    if name in documented:
+        return documented[name]
+    for pattern, unit in documented.items():
+        if pattern.endswith("*") and name.startswith(pattern[:-1]):
+            return unit
+        if pattern.startswith("*") and name.endswith(pattern[1:]):
+            return documented.get(name[:-len(pattern) + 1], unit) if "name without" in unit \
+                else unit
+    return None
+
+
+def test_every_dataset_a_run_writes_is_documented_with_its_units(tmp_path):
+    scene = tmp_path / "sweep.toml"
+    scene.write_text("[scene]\nname = 'tiny'\nprocedure = 'volume-sweep'\n[membrane]\n"
+                     "grid_size = 8\n[structure]\nmodel = 'xpbd'\n[sweep]\nscale = 'tank'\n"
+                     "fills = [0.1, 0.2]\ndrain = true\n")
+    out = tmp_path / "run"
+    assert main(["run", str(scene), "--out", str(out), "--no-plots"]) in (0, 3)
+    documented = _documented_units()
+    wrong = []
+    with h5py.File(out / "result.h5") as f:
+        def check(path, obj):
+            if not isinstance(obj, h5py.Dataset):
+                return
+            group, _, name = path.rpartition("/")
+            if group == "membrane":
+                return  # the rest shape's own units, written beside it
+            assert group in documented, f"group {group!r} is not in the output reference"
+            unit = _documented(name, documented)
+            if unit != obj.attrs.get("units"):
+                wrong.append(f"{path}: written {obj.attrs.get('units')!r}, documented {unit!r}")
+        f.visititems(check)
+    assert not wrong, "\n".join(wrong)
