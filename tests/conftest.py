@@ -18,3 +18,17 @@ def model26(thesis_material):
 @pytest.fixture(scope="session")
 def model10(thesis_material):
     return hemisphere_model(10, C.TANK_RADIUS, thesis_material)
+
+
+TINY_SWEEP = ("[scene]\nname = 'tiny'\nprocedure = 'volume-sweep'\n[membrane]\n"
+              "grid_size = 8\n[structure]\nmodel = 'xpbd'\n[sweep]\nscale = 'tank'\n"
+              "fills = [0.1, 0.2]\ndrain = true\n")
+"""A static sweep small enough for seconds: N = 8, XPBD, two tank fractions and the drain."""
+
+
+@pytest.fixture
+def tiny_sweep_scene(tmp_path):
+    """The path of :data:`TINY_SWEEP` written as a scene file."""
+    scene = tmp_path / "sweep.toml"
+    scene.write_text(TINY_SWEEP)
+    return scene

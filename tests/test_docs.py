@@ -108,11 +108,8 @@ def _documented(name: str, documented: dict[str, str]) -> str | None:
     return None
 
 
-def test_every_dataset_a_run_writes_is_documented_with_its_units(tmp_path):
-    scene = tmp_path / "sweep.toml"
-    scene.write_text("[scene]\nname = 'tiny'\nprocedure = 'volume-sweep'\n[membrane]\n"
-                     "grid_size = 8\n[structure]\nmodel = 'xpbd'\n[sweep]\nscale = 'tank'\n"
-                     "fills = [0.1, 0.2]\ndrain = true\n")
+def test_every_dataset_a_run_writes_is_documented_with_its_units(tmp_path, tiny_sweep_scene):
+    scene = tiny_sweep_scene
     out = tmp_path / "run"
     assert main(["run", str(scene), "--out", str(out), "--no-plots"]) in (0, 3)
     documented = _documented_units()
