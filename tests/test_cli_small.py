@@ -33,7 +33,8 @@ def test_a_folder_named_like_a_bundled_scene_does_not_hide_it(tmp_path, monkeypa
     assert load_scene("thesis-static").name == "thesis-static"
 
 
-def test_a_static_sweep_writes_units_version_and_its_draining_leg(tmp_path, tiny_sweep_scene, capsys):
+def test_a_static_sweep_writes_units_version_and_its_draining_leg(tmp_path, tiny_sweep_scene,
+                                                                  capsys):
     scene = tiny_sweep_scene
     out = tmp_path / "run"
     assert main(["run", str(scene), "--out", str(out), "--no-plots"]) in (0, 3)

@@ -28,7 +28,8 @@ ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 README = ROOT / "README.md"
 README_MAX_LINES = 250
-FILE_SUFFIXES = {"nc", "png", "h5", "xdmf", "toml", "json", "md", "py", "obj", "csv", "pkl", "ipynb"}
+FILE_SUFFIXES = {"nc", "png", "h5", "xdmf", "toml", "json", "md", "py", "obj", "csv", "pkl",
+                 "ipynb"}
 """``name.suffix`` in backticks is a file, not a scene key."""
 SCENE_ROW = re.compile(r"^\| `([a-z0-9-]+)` \| (.+?) \| (.+?) \|$")
 
@@ -56,8 +57,9 @@ def scene_rows() -> list[str]:
 
 
 def test_the_pages_include_the_references_generated_from_the_code():
-    assert "{include} ../_generated/scene_keys.md" in (DOCS / "user-guide" / "scenes.md").read_text()
-    assert "{include} ../_generated/outputs.md" in (DOCS / "user-guide" / "outputs.md").read_text()
+    guide = DOCS / "user-guide"
+    assert "{include} ../_generated/scene_keys.md" in (guide / "scenes.md").read_text()
+    assert "{include} ../_generated/outputs.md" in (guide / "outputs.md").read_text()
     generator = (DOCS / "_ext" / "generated.py").read_text()
     assert '"fsi.scene", "reference_markdown"' in generator
     assert '"fsi.io.output", "reference_markdown"' in generator
