@@ -56,6 +56,16 @@ def scene_rows() -> list[str]:
     return rows
 
 
+def test_the_readme_is_a_front_door_of_at_most_250_lines():
+    lines = README.read_text().splitlines()
+    assert len(lines) <= README_MAX_LINES, f"README.md is {len(lines)} lines"
+
+
+def test_the_readme_lists_every_bundled_scene_with_its_description_and_measured_time():
+    rows = [line for line in README.read_text().splitlines() if SCENE_ROW.match(line)]
+    assert rows == scene_rows()
+
+
 def test_the_pages_include_the_references_generated_from_the_code():
     guide = DOCS / "user-guide"
     assert "{include} ../_generated/scene_keys.md" in (guide / "scenes.md").read_text()
