@@ -24,7 +24,7 @@ from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY
 R, RHO, G = TANK_RADIUS, WATER_DENSITY, STANDARD_GRAVITY
 #: the JSON's top-level keys the documentation reads
 DOC_FIELDS = ("hydrostatics_axisymmetric", "hydrostatics_3d", "piston", "volume_bookkeeping",
-              "poiseuille")
+              "poiseuille", "seconds")
 #: each check's grids (cells) and steps: full run (the checks' own steps where None)
 FULL = dict(axisymmetric=32, cells_3d=16, piston=(16, 32, 64), volume=32, poiseuille=(8, 16, 32),
             steps=None, poiseuille_dt=0.01)

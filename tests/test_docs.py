@@ -9,9 +9,13 @@
   file's ``[sweep]`` table (the notes, which record studies at the commit they measured,
   excepted).
 - Every dataset a run writes is in the output reference, with the units the reference gives.
+- Every measured number the documentation reads from ``docs/data/NAME.json`` is one of the
+  fields ``benchmarks/NAME.py`` declares in ``DOC_FIELDS``, which its ``--smoke`` run (in the
+  suite, ``tests/test_benchmarks.py``) proves it still writes.
 """
 from __future__ import annotations
 
+import ast
 import importlib.util
 import json
 import re
@@ -139,3 +143,34 @@ def test_every_dataset_a_run_writes_is_documented_with_its_units(tmp_path, tiny_
                 wrong.append(f"{path}: written {obj.attrs.get('units')!r}, documented {unit!r}")
         f.visititems(check)
     assert not wrong, "\n".join(wrong)
+
+
+DATA_ROLE = re.compile(r"\{data\}`([A-Za-z0-9_.-]+):([^:`.]+)")
+DATA_TABLE = re.compile(r"```\{data-table\} ([A-Za-z0-9_.-]+)\n:rows: ([^\n.]+)")
+STAMPS = ("commit", "date")
+"""Fields every docs/data file carries beside its benchmark's record (benchmarks/_report.py)."""
+
+
+def _doc_fields(name: str) -> tuple[str, ...]:
+    """The literal ``DOC_FIELDS`` of ``benchmarks/NAME.py`` (read without importing it)."""
+    tree = ast.parse((ROOT / "benchmarks" / f"{name}.py").read_text())
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "DOC_FIELDS"
+                                                for t in node.targets):
+            return tuple(ast.literal_eval(node.value))
+    return ()
+
+
+def test_every_number_the_documentation_reads_is_a_field_its_benchmark_declares():
+    read = set()
+    for page in DOCS.rglob("*.md"):
+        if "_build" in page.parts:
+            continue
+        text = page.read_text()
+        read |= {(m.group(1), m.group(2).strip(), page.name) for m in DATA_ROLE.finditer(text)}
+        read |= {(m.group(1), m.group(2).strip(), page.name) for m in DATA_TABLE.finditer(text)}
+    assert read, "the documentation reads no benchmark data"
+    undeclared = sorted(f"{page}: {name}.{field}" for name, field, page in read
+                        if field not in _doc_fields(name) + STAMPS)
+    assert not undeclared, "read by the documentation, not in the benchmark's DOC_FIELDS: " + \
+        ", ".join(undeclared)
