@@ -41,7 +41,7 @@ from structure.plate import (ESTIMATES, LARGE_DEFLECTION_LIMIT, SMALL_DEFLECTION
                              FlatDiaphragm, ShellDisc)
 
 #: the JSON's top-level keys the documentation reads
-DOC_FIELDS = ("grid_sizes", "validity", "thesis_cases", "seconds_per_load",
+DOC_FIELDS = ("grid_sizes", "validity", "thesis_cases", "seconds_per_load", "grid_error",
               "speed_ratio_shell_over_closed_forms")
 #: --smoke: the grids and the number of loads over the same range (both sides of 3 t)
 SMOKE = dict(grid_sizes=[4, 8])
