@@ -1,4 +1,8 @@
-"""Shared fixtures: the thesis material and small models (SI units)."""
+"""Shared fixtures: the thesis material and small models (SI units); reading a script's
+module-level constants without importing it."""
+import ast
+from pathlib import Path
+
 import pytest
 
 from fsi import constants as C
@@ -32,3 +36,16 @@ def tiny_sweep_scene(tmp_path):
     scene = tmp_path / "sweep.toml"
     scene.write_text(TINY_SWEEP)
     return scene
+
+
+def module_constant(path: Path, name: str):
+    """The literal value of the module-level assignment ``name = ...`` in ``path`` (read
+    without importing the script), or None."""
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.Assign) and any(
+                isinstance(target, ast.Name) and target.id == name for target in node.targets):
+            try:
+                return ast.literal_eval(node.value)
+            except ValueError:
+                pytest.fail(f"{path.name}: {name} must be a literal, e.g. ('key', ...)")
+    return None

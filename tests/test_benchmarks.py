@@ -20,6 +20,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import module_constant
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPTS = [path for path in sorted((ROOT / "benchmarks").glob("*.py"))
@@ -27,19 +28,6 @@ SCRIPTS = [path for path in sorted((ROOT / "benchmarks").glob("*.py"))
 DOCS_DATA = ROOT / "docs" / "data"
 TIMEOUT = 300
 """s per smoke run: a few seconds each alone, this much on a loaded machine."""
-
-
-def module_constant(path: Path, name: str):
-    """The literal value of the module-level assignment ``name = ...`` in ``path`` (read
-    without importing the script), or None."""
-    for node in ast.parse(path.read_text(encoding="utf-8")).body:
-        if isinstance(node, ast.Assign) and any(
-                isinstance(target, ast.Name) and target.id == name for target in node.targets):
-            try:
-                return ast.literal_eval(node.value)
-            except ValueError:
-                pytest.fail(f"{path.name}: {name} must be a literal, e.g. ('key', ...)")
-    return None
 
 
 def _docs_file_state(name: str):

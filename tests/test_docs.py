@@ -15,13 +15,13 @@
 """
 from __future__ import annotations
 
-import ast
 import importlib.util
 import json
 import re
 from pathlib import Path
 
 import h5py
+from conftest import module_constant
 
 from fsi.cli import main
 from fsi.io.output import reference_markdown as output_reference
@@ -151,16 +151,6 @@ STAMPS = ("commit", "date")
 """Fields every docs/data file carries beside its benchmark's record (benchmarks/_report.py)."""
 
 
-def _doc_fields(name: str) -> tuple[str, ...]:
-    """The literal ``DOC_FIELDS`` of ``benchmarks/NAME.py`` (read without importing it)."""
-    tree = ast.parse((ROOT / "benchmarks" / f"{name}.py").read_text())
-    for node in tree.body:
-        if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "DOC_FIELDS"
-                                                for t in node.targets):
-            return tuple(ast.literal_eval(node.value))
-    return ()
-
-
 def test_every_number_the_documentation_reads_is_a_field_its_benchmark_declares():
     read = set()
     for page in DOCS.rglob("*.md"):
@@ -170,7 +160,9 @@ def test_every_number_the_documentation_reads_is_a_field_its_benchmark_declares(
         read |= {(m.group(1), m.group(2).strip(), page.name) for m in DATA_ROLE.finditer(text)}
         read |= {(m.group(1), m.group(2).strip(), page.name) for m in DATA_TABLE.finditer(text)}
     assert read, "the documentation reads no benchmark data"
+    declared = {name: tuple(module_constant(ROOT / "benchmarks" / f"{name}.py", "DOC_FIELDS")
+                            or ()) + STAMPS for name, _, _ in read}
     undeclared = sorted(f"{page}: {name}.{field}" for name, field, page in read
-                        if field not in _doc_fields(name) + STAMPS)
+                        if field not in declared[name])
     assert not undeclared, "read by the documentation, not in the benchmark's DOC_FIELDS: " + \
         ", ".join(undeclared)
