@@ -22,6 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from fsi.io.output import read_result  # noqa: E402
+from fsi.io.plots import draw_tank, middle_column  # noqa: E402
 
 FIGURE = Path(__file__).resolve().parent / "_static" / "figures" / "front.png"
 N_SECTIONS = 5
@@ -33,14 +34,13 @@ SLOSH = {"slosh-half": "free surface (limp diaphragm)", "slosh-diaphragm": "Tabl
 
 def _section(ax, pos: np.ndarray, n: int, radius: float, title: str) -> None:
     """The tank wall, the membrane's middle grid line (y-z plane) and the liquid below it."""
-    col = pos.reshape(n, n, 3)[:, n // 2 - 1, :]
+    col = middle_column(pos, n)
     y, z = col[:, 1], col[:, 2]
     if y[0] > y[-1]:
         y, z = y[::-1], z[::-1]
     arc = np.linspace(0.0, -np.pi, 181)           # from (R, 0) under the bottom to (-R, 0)
     ax.fill(np.r_[y, radius * np.cos(arc)], np.r_[z, radius * np.sin(arc)], color="#9ecae1")
-    t = np.linspace(0, 2 * np.pi, 361)
-    ax.plot(radius * np.cos(t), radius * np.sin(t), color="0.4", lw=1)
+    draw_tank(ax, radius)
     ax.plot(y, z, "k-", lw=1.4)
     ax.set(aspect="equal", xticks=[], yticks=[], title=title)
     ax.title.set_fontsize(9)

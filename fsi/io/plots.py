@@ -29,12 +29,13 @@ import numpy as np  # noqa: E402
 from fsi.io.output import read_result  # noqa: E402
 
 
-def _middle_column(pos: np.ndarray, n: int) -> np.ndarray:
+def middle_column(pos: np.ndarray, n: int) -> np.ndarray:
     """(N, 3) nodes of grid column round(N/2) (1-based), App. J's cross-section line."""
     return pos.reshape(n, n, 3)[:, n // 2 - 1, :]
 
 
-def _tank(ax, radius):
+def draw_tank(ax, radius):
+    """The tank wall (a circle of ``radius``, m) and the equator on a y-z plot."""
     t = np.linspace(0, 2 * np.pi, 361)
     ax.plot(radius * np.cos(t), radius * np.sin(t), color="0.6", lw=1)
     ax.axhline(0.0, color="0.85", lw=0.8)
@@ -108,9 +109,9 @@ def _save(fig, path: Path) -> Path:
 
 def _cross_section_plot(pos, n: int, radius: float, label: str, path: Path) -> Path:
     """The middle grid line in the y-z plane with the tank wall (thesis Figs 6.2-6.8)."""
-    col = _middle_column(pos, n)
+    col = middle_column(pos, n)
     fig, ax = plt.subplots(figsize=(6, 5))
-    _tank(ax, radius)
+    draw_tank(ax, radius)
     ax.plot(col[:, 1], col[:, 2], "k-o", ms=2, lw=1.5, label="membrane")
     ax.set_aspect("equal")
     ax.set_xlabel("y (m)")
@@ -139,11 +140,11 @@ def _cross_sections_plot(res: dict, n: int, radius: float, path: Path) -> Path:
     groups = [g for g in ("frames", "drain") if g in res]
     fig, axes = plt.subplots(1, len(groups), figsize=(6 * len(groups), 5), squeeze=False)
     for ax, name in zip(axes[0], groups):
-        _tank(ax, radius)
+        draw_tank(ax, radius)
         cmap = plt.get_cmap("viridis")
         for k, pos in enumerate(res[name]["node_position"]):
             tank = float(res[name]["tank_fraction"][k])
-            col = _middle_column(pos, n)
+            col = middle_column(pos, n)
             ax.plot(col[:, 1], col[:, 2], color=cmap(tank), lw=1.2, label=f"{tank:.2f}")
         ax.set_aspect("equal")
         ax.set_title({"frames": "filling", "drain": "draining"}[name]
