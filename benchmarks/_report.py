@@ -37,17 +37,53 @@ def commit() -> str:
     return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else "unknown"
 
 
+def command() -> str:
+    """The command line that ran this benchmark, as a reader would retype it:
+    ``python benchmarks/SCRIPT.py ARGS``."""
+    import shlex
+
+    return " ".join(["python", f"benchmarks/{Path(sys.argv[0]).name}",
+                     *map(shlex.quote, sys.argv[1:])])
+
+
 def emit(name: str, record: dict, smoke: bool, *, allow_nan: bool = True) -> None:
     """Print ``record`` as one JSON object on one line of stdout; unless ``smoke``, also write
-    it with ``commit`` and ``date`` (ISO) to ``docs/data/<name>.json``.
+    it with ``commit``, ``date`` (ISO) and the ``command`` that ran it to
+    ``docs/data/<name>.json``.
 
     ``name`` is the script's name without ``.py``; ``allow_nan`` as :func:`json.dumps`'s.
     """
     text = json.dumps(record, allow_nan=allow_nan)
     if not smoke:
         DOCS_DATA.mkdir(parents=True, exist_ok=True)
-        stamped = {**record, "commit": commit(), "date": datetime.date.today().isoformat()}
+        stamped = {**record, "commit": commit(), "date": datetime.date.today().isoformat(),
+                   "command": command()}
         (DOCS_DATA / f"{name}.json").write_text(
             json.dumps(stamped, indent=1, allow_nan=allow_nan) + "\n")
     sys.stdout.write(text + "\n")
     sys.stdout.flush()
+
+
+def profile(function, *args, top: int = 8, **kwargs):
+    """Run ``function(*args, **kwargs)`` under :mod:`cProfile`; return its result and the
+    ``top`` functions by own time, each ``{"function": "file:line(name)", "seconds": own
+    seconds, "share": of the profiled total}``, so a speed figure is printed with where the
+    time went. A numba kernel counts as one call of its dispatcher; the profiler's overhead
+    falls on Python calls, so time a run without it and profile a second one."""
+    import cProfile
+    import pstats
+
+    profiler = cProfile.Profile()
+    result = profiler.runcall(function, *args, **kwargs)
+    stats = pstats.Stats(profiler)
+    total = max(stats.total_tt, 1e-300)
+    rows = sorted(stats.stats.items(), key=lambda item: item[1][2], reverse=True)[:top]
+    table = []
+    for (filename, line, name), (_cc, _nc, own, _cum, _callers) in rows:
+        short = filename
+        for anchor in (str(ROOT) + "/", "site-packages/"):
+            if anchor in filename:
+                short = filename.split(anchor, 1)[1]
+        table.append({"function": f"{short}:{line}({name})", "seconds": round(own, 4),
+                      "share": round(own / total, 4)})
+    return result, table

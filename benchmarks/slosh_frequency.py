@@ -20,7 +20,7 @@ half-full sphere, Budiansky 1960; NASTRAN demo d03031a), and the peer a user wou
 bare tank, OpenFOAM interFoam (v1912, this machine, 2 cores): 225 s for five periods at 34,776
 cells with lambda1 off by -1.9 %. Writes ``benchmarks/output/slosh_frequency.png`` (lambda1
 against tank fraction, one line per grid). A full run's JSON also goes to
-``docs/data/slosh_frequency.json``. ``--smoke``: :data:`SMOKE` (tank fraction 0.5 on 8^3 and
+``docs/data/slosh_frequency.json`` (``slosh_frequency_linear.json`` with ``--surface linear``). ``--smoke``: :data:`SMOKE` (tank fraction 0.5 on 8^3 and
 10^3 cells, 20 ms windows, 2.4 s; the figure under ``benchmarks/output/smoke/``).
 """
 from __future__ import annotations
@@ -119,6 +119,12 @@ def plot(cases: list[dict], figure: Path) -> None:
     plt.close(fig)
 
 
+def json_name(surface: str) -> str:
+    """The name of a full run's ``docs/data`` file: ``slosh_frequency`` for the limp surface,
+    ``slosh_frequency_<surface>`` for another, so the two surfaces' runs are kept apart."""
+    return "slosh_frequency" if surface == "limp" else f"slosh_frequency_{surface}"
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fills", type=float, nargs="+", default=[0.5])
@@ -143,7 +149,7 @@ def main(argv=None) -> None:
         c["lambda1_error"] = c["lambda1"] / LAMBDA1_HALF - 1
         c["seconds_five_periods"] = 5 * c["seconds_per_period"]
         c["ratio_to_interfoam"] = c["seconds_five_periods"] / INTERFOAM["seconds_five_periods"]
-    emit("slosh_frequency", dict(cases=cases, extrapolated=extrapolated(cases),
+    emit(json_name(args.surface), dict(cases=cases, extrapolated=extrapolated(cases),
                                  anchor_lambda1_half=LAMBDA1_HALF, interfoam=INTERFOAM,
                                  figure=str(figure)), args.smoke)
 
