@@ -46,10 +46,21 @@ def command() -> str:
                      *map(shlex.quote, sys.argv[1:])])
 
 
+def load_average() -> list:
+    """The machine's 1, 5 and 15 min load averages at the end of the run (a timing taken
+    beside other work reads high), or [] where the system does not say."""
+    try:
+        import os
+
+        return [round(v, 2) for v in os.getloadavg()]
+    except (AttributeError, OSError):
+        return []
+
+
 def emit(name: str, record: dict, smoke: bool, *, allow_nan: bool = True) -> None:
     """Print ``record`` as one JSON object on one line of stdout; unless ``smoke``, also write
-    it with ``commit``, ``date`` (ISO) and the ``command`` that ran it to
-    ``docs/data/<name>.json``.
+    it with ``commit``, ``date`` (ISO), the ``command`` that ran it and the
+    ``load_average`` at its end to ``docs/data/<name>.json``.
 
     ``name`` is the script's name without ``.py``; ``allow_nan`` as :func:`json.dumps`'s.
     """
@@ -57,7 +68,7 @@ def emit(name: str, record: dict, smoke: bool, *, allow_nan: bool = True) -> Non
     if not smoke:
         DOCS_DATA.mkdir(parents=True, exist_ok=True)
         stamped = {**record, "commit": commit(), "date": datetime.date.today().isoformat(),
-                   "command": command()}
+                   "command": command(), "load_average": load_average()}
         (DOCS_DATA / f"{name}.json").write_text(
             json.dumps(stamped, indent=1, allow_nan=allow_nan) + "\n")
     sys.stdout.write(text + "\n")

@@ -147,7 +147,7 @@ def test_every_dataset_a_run_writes_is_documented_with_its_units(tmp_path, tiny_
 
 DATA_ROLE = re.compile(r"\{data\}`([A-Za-z0-9_.-]+):([^:`.]+)")
 DATA_TABLE = re.compile(r"```\{data-table\} ([A-Za-z0-9_.-]+)\n:rows: ([^\n.]+)")
-STAMPS = ("commit", "date", "command")
+STAMPS = ("commit", "date", "command", "load_average")
 """Fields every docs/data file carries beside its benchmark's record (benchmarks/_report.py)."""
 
 

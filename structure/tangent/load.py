@@ -17,6 +17,8 @@ eps_kij / 2 (the other order's sign reversed).
 
 The wall is a one-sided quadratic penalty on each free node outside the tank's sphere,
 1/2 k (r - R)^2 for r > R: gradient k (r - R) x^, Hessian k [x^ x^T + (r - R)/r (I - x^ x^T)].
+A node on the sphere (r = R, as the rest shape's are) counts as in contact: its Hessian is
+the outward one, k x^ x^T, so that a Newton step does not push it through the wall.
 """
 from __future__ import annotations
 
@@ -177,7 +179,7 @@ def wall_hessians(x, free, radius, stiffness, need_hessian):
         if not free[i]:
             continue
         r = np.sqrt(x[i, 0] ** 2 + x[i, 1] ** 2 + x[i, 2] ** 2)
-        if r <= radius:
+        if r < radius:
             continue
         over = r - radius
         energy += 0.5 * stiffness * over * over

@@ -1,0 +1,63 @@
+"""Sparse direct solves of the tangent: SciPy's SuperLU (an LU, so indefinite and
+non-symmetric tangents are solved as well), the factors kept so that one factorisation serves
+several right-hand sides (the bordered solves of :mod:`.statics`) and, in a modified Newton
+iteration, several iterations."""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+
+class SingularTangent(RuntimeError):
+    """The tangent could not be factorised (exactly singular), or its solve is not finite."""
+
+
+class Factorisation:
+    """``solve(b)`` for a (3n, 3n) sparse matrix: SuperLU with the COLAMD ordering."""
+
+    def __init__(self, matrix):
+        csc = sp.csc_matrix(matrix)
+        try:
+            self._lu = splu(csc, permc_spec="COLAMD")
+        except RuntimeError as error:  # "Factor is exactly singular"
+            raise SingularTangent(str(error)) from error
+        self.shape = csc.shape
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """The solution, the shape of ``rhs`` ((3n,) or (n, 3), or (3n, k))."""
+        b = np.asarray(rhs, dtype=float)
+        flat = b.reshape(self.shape[0], -1)
+        out = self._lu.solve(np.ascontiguousarray(flat))
+        if not np.all(np.isfinite(out)):
+            raise SingularTangent("the tangent's solve is not finite")
+        return out.reshape(b.shape)
+
+    @property
+    def determinant_sign(self) -> float:
+        """The sign of the matrix's determinant (+1 or -1): changes where an eigenvalue
+        crosses zero along a path, at a limit or bifurcation point."""
+        diag = np.concatenate([self._lu.U.diagonal(), self._lu.L.diagonal()])
+        sign = np.prod(np.sign(diag))
+        # permutations' parities
+        for perm in (self._lu.perm_r, self._lu.perm_c):
+            sign *= _permutation_parity(perm)
+        return float(sign)
+
+
+def _permutation_parity(perm: np.ndarray) -> float:
+    """+1 for an even permutation, -1 for an odd one (cycle decomposition)."""
+    perm = np.asarray(perm)
+    seen = np.zeros(len(perm), dtype=bool)
+    parity = 1.0
+    for start in range(len(perm)):
+        if seen[start]:
+            continue
+        length, j = 0, start
+        while not seen[j]:
+            seen[j] = True
+            j = perm[j]
+            length += 1
+        if length % 2 == 0:
+            parity = -parity
+    return parity
