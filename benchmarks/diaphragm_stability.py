@@ -46,7 +46,8 @@ from fsi.scene import load_scene
 
 #: the JSON's top-level keys the documentation reads
 DOC_FIELDS = ("predicted", "constant", "largest_converging_omega", "aitken", "iqn-ils",
-              "iqn-ils mixing", "explicit")
+              "iqn-ils mixing", "explicit", "windows", "max_iterations",
+              "smallest_diverging_omega", "measured_over_predicted")
 #: --smoke: the options it sets (one omega each side of the measured bound, 0.07-0.1)
 SMOKE = dict(omegas=[0.07, 0.2], windows=1, max_iterations=150, explicit_windows=2,
              mixings=[0.1])

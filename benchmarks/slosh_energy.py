@@ -27,7 +27,8 @@ One case per tank fraction and ``--pulse-scales`` entry (times the scene's pulse
 
 Anchors are the physics' (energy conserved without viscosity; lost as dissipated with it;
 a linear response), not another code's. A full run's JSON also goes to
-``docs/data/slosh_energy.json`` (``slosh_energy_linear.json`` with ``--surface linear``). ``--smoke``: :data:`SMOKE` (tank fraction 0.5 on 8^3 cells,
+``docs/data/slosh_energy.json`` (:func:`json_name`: ``slosh_energy_linear.json`` with
+``--surface linear``, ``slosh_energy_noconvection.json`` with ``--convection none``). ``--smoke``: :data:`SMOKE` (tank fraction 0.5 on 8^3 cells,
 20 ms windows, 2.4 s: three periods after the pulse).
 """
 from __future__ import annotations
@@ -123,6 +124,15 @@ def linearity_figures(full, half) -> dict:
                 frequency_ratio=fit_half["omega"] / fit_full["omega"])
 
 
+def json_name(surface: str, convection: str) -> str:
+    """The ``docs/data`` file of a full run: ``slosh_energy`` for the limp surface with the
+    default convection, ``slosh_energy_<surface>`` for another surface (its convection is
+    ``none``), ``slosh_energy_noconvection`` for the limp surface without convection."""
+    if surface != "limp":
+        return f"slosh_energy_{surface}"
+    return "slosh_energy" if convection == "upwind" else "slosh_energy_noconvection"
+
+
 def main(argv=None) -> None:
     logging.disable(logging.INFO)
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -156,8 +166,7 @@ def main(argv=None) -> None:
         case.update(energy_figures(inviscid, viscous))
         case.update(linearity_figures(inviscid, half))
         cases.append(case)
-    name = "slosh_energy" if args.surface == "limp" else f"slosh_energy_{args.surface}"
-    emit(name, dict(benchmark="slosh_energy", anchors=dict(
+    emit(json_name(args.surface, args.convection), dict(benchmark="slosh_energy", anchors=dict(
         energy_drift=0.0, viscous_balance=1.0, amplitude_ratio=0.5, frequency_ratio=1.0),
         goals=dict(energy_drift=0.01, viscous_balance=0.05, amplitude_ratio=0.02,
                    frequency_ratio=0.005), cases=cases), args.smoke)

@@ -89,3 +89,39 @@ def test_hemisphere_bordered_newton_keeps_the_shell_equilibrium():
     assert level == pytest.approx(eq.pressure_level, abs=0.5)  # Pa; L-BFGS stops at 1e-4
     assert eqn_6_1_error(state.node_position, setup.model.face_nodes, x, radius) <= EQN_6_1_BAR
     assert np.all(np.real(S.constrained_eigenvalues(model, lin, 3)) > 0)
+
+
+def _small_hemisphere(grid_size=8):
+    setup = build(load_scene("diaphragm-static").with_keys(
+        {"membrane": {"grid_size": grid_size}, "structure": {"model": "xpbd"}}))
+    from structure.xpbd.model import XpbdModel
+    model = NewtonModel.from_xpbd(XpbdModel.from_membrane(setup.model), load_form="energy")
+    return setup, model
+
+
+def test_fill_path_reaches_each_target_volume_from_the_rest_shape():
+    setup, model = _small_hemisphere()
+    tank = tank_volume(setup.model.radius)
+    targets = [0.1 * tank, 0.2 * tank]
+    load = hydrostatic_load(setup.liquid, volume_target=targets[-1])
+    results = S.fill_path(model, MembraneState(setup.model.node_rest_position.copy()), load,
+                          targets, S.NewtonSettings(eigenvalues=2))
+    for target, (state, eq, report) in zip(targets, results):
+        assert eq.converged and eq.force_ratio <= 1e-6
+        assert model.liquid_volume(state.node_position) == pytest.approx(target, rel=1e-8)
+        assert report.eigenvalues.size == 2
+    # the iterations are counted along the path
+    assert results[1][2].iterations > results[0][2].iterations > 0
+
+
+def test_arc_length_path_reaches_its_target_and_reports_limit_points():
+    setup, model = _small_hemisphere()
+    tank = tank_volume(setup.model.radius)
+    load = hydrostatic_load(setup.liquid, volume_target=0.1 * tank)
+    (state, eq, report), = S.continuation(
+        model, MembraneState(setup.model.node_rest_position.copy()), load, [0.1 * tank])
+    assert eq.converged
+    assert model.liquid_volume(state.node_position) == pytest.approx(0.1 * tank, rel=1e-8)
+    assert report.path_steps > 0
+    for event in report.events:  # each a turning point of the volume along the path
+        assert event.kind == "volume limit point" and event.path_length > 0

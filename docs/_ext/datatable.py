@@ -15,8 +15,9 @@ A table (MyST)::
 
 ``:rows:`` is a dotted path to a list of objects or an object of objects (``.`` for the
 top-level object as one row); with an object of objects, ``:key: HEADER`` adds its keys as
-the first column.  ``:columns:`` is a comma-separated list of ``PATH[=HEADER][:FORMAT]`` (semicolons instead
-when a format groups thousands with ``,``),
+the first column and ``:exclude: KEY, ...`` leaves those keys' entries out.  ``:columns:`` is
+a comma-separated list of ``PATH[=HEADER][:FORMAT]`` (semicolons instead when a format groups
+thousands with ``,``),
 PATH dotted inside a row (``@key`` is the row's key), FORMAT a Python format spec.
 
 One number in running text (MyST): ``{data}`fluid_step:ratio:.2f``` renders the value at the
@@ -138,6 +139,7 @@ class DataTable(SphinxDirective):
         "key": directives.unchanged,
         "caption": directives.unchanged,
         "name": directives.unchanged,
+        "exclude": directives.unchanged,
     }
 
     def run(self) -> list[nodes.Node]:
@@ -152,7 +154,8 @@ class DataTable(SphinxDirective):
             if isinstance(rows, dict) and self.options["rows"] in ("", "."):
                 items = [(None, rows)]
             elif isinstance(rows, dict):
-                items = list(rows.items())
+                excluded = {k.strip() for k in self.options.get("exclude", "").split(",")}
+                items = [(k, v) for k, v in rows.items() if k not in excluded]
             elif isinstance(rows, list):
                 items = [(None, row) for row in rows]
             else:

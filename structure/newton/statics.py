@@ -294,16 +294,61 @@ def _level_line_search(model, x, dx, lin, load, level, settings, scales):
     return x, lin, False
 
 
+def fill_path(model: NewtonModel, state: MembraneState, load: Load, targets,
+              settings: NewtonSettings = NewtonSettings(), volume_step: float = 0.02):
+    """Equilibria at the volumes ``targets`` (m^3, in order) by natural continuation in the
+    volume from ``state``: steps of at most ``volume_step`` of the tank volume, each predicted
+    along the path's tangent dx/dV = b / (g . b) and corrected by Newton at its volume (the
+    l1-merit line search and Levenberg shifts let a corrector that meets a snap descend to
+    the equilibrium beyond it); a step whose corrector fails is halved down to a hundredth.
+    Returns one (:class:`MembraneState`, :class:`structure.load.Equilibrium`,
+    :class:`NewtonReport`) per target; after a target is missed every later one is returned
+    not converged."""
+    scales = _Scales(model, load)
+    s = settings
+    x = np.array(state.node_position, dtype=float)
+    level = float(load.pressure_level)
+    x, level, its, ok, lin = newton_at_volume(model, x, level, load, model.liquid_volume(x),
+                                              s, scales)
+    total, steps, results = its, 0, []
+    volume = lin.volume
+    for target in targets:
+        while ok and abs(target - volume) > s.volume_tolerance * scales.volume:
+            step = min(volume_step * scales.volume, abs(target - volume))
+            while True:
+                goal = volume + np.sign(target - volume) * step
+                try:
+                    b = Factorisation(lin.matrix).solve(lin.volume_gradient)
+                    gb = float(np.sum(lin.volume_gradient * b))
+                except SingularTangent:
+                    b, gb = np.zeros_like(x), 0.0
+                xp, lp = (x + b * (goal - volume) / gb, level + (goal - volume) / gb) \
+                    if gb else (x, level)
+                xn, ln, its, ok_n, lin_n = newton_at_volume(model, xp, lp, load, goal, s,
+                                                            scales)
+                total += its
+                if ok_n:
+                    x, level, lin, volume = xn, ln, lin_n, goal
+                    steps += 1
+                    break
+                step *= 0.5
+                if step < 0.01 * volume_step * scales.volume:
+                    ok = False
+                    log.warning("newton: no equilibrium found beyond V = %.6g m^3", volume)
+                    break
+        results.append(_result(model, x, level, lin, ok, NewtonReport(total, steps), scales, s))
+    return results
+
+
 def solve_equilibrium(model: NewtonModel, state: MembraneState, load: Load,
                       settings: NewtonSettings = NewtonSettings()):
-    """The equilibrium holding ``load.volume_target`` (m^3) from ``state``, by continuation
-    from the state's own volume (level started at ``load.pressure_level``, Pa). Returns
-    (:class:`MembraneState`, :class:`structure.load.Equilibrium` with ``steps`` the Newton
-    iterations and its force ratio, :class:`NewtonReport`)."""
+    """The equilibrium holding ``load.volume_target`` (m^3) from ``state``, by
+    :func:`fill_path` from the state's own volume (level started at ``load.pressure_level``,
+    Pa). Returns (:class:`MembraneState`, :class:`structure.load.Equilibrium` with ``steps``
+    the Newton iterations and its force ratio, :class:`NewtonReport`)."""
     if load.volume_target is None:
         raise ValueError("the Newton statics needs a volume target (load.volume_target, m^3)")
-    results = continuation(model, state, load, [load.volume_target], settings)
-    return results[-1]
+    return fill_path(model, state, load, [load.volume_target], settings)[-1]
 
 
 def continuation(model: NewtonModel, state: MembraneState, load: Load, targets,
