@@ -43,62 +43,123 @@ def _cross_matrix(v, out):
     out[2, 0], out[2, 1], out[2, 2] = -v[1], v[0], 0.0
 
 
+@njit(**JIT, inline="always")
+def _cross(u, v, out):
+    out[0] = u[1] * v[2] - u[2] * v[1]
+    out[1] = u[2] * v[0] - u[0] * v[2]
+    out[2] = u[0] * v[1] - u[1] * v[0]
+
+
 @njit(**JIT)
-def dihedral_hessian(pc, pd, pa, pb, hess):
+def dihedral_hessian(pc, pd, pa, pb, hess, work=None):
     """Fill hess (4, 4, 3, 3) with the Hessian of the signed dihedral angle of
-    :func:`structure.bending._dihedral` with respect to (c, d, a, b) (1/m^2)."""
-    e = pb - pa
-    le = np.sqrt(e @ e)
-    eh = e / le
-    n1 = np.cross(pc - pa, pc - pb)
-    n2 = np.cross(pd - pb, pd - pa)
-    s1, s2 = n1 @ n1, n2 @ n2
-    w1, w2 = n1 / s1, n2 / s2
-    eye = np.eye(3)
-    wn1 = (eye - 2.0 * np.outer(n1, n1) / s1) / s1
-    wn2 = (eye - 2.0 * np.outer(n2, n2) / s2) / s2
-    pe = (eye - np.outer(eh, eh)) / le
-    alpha1, alpha2 = (pc - pb) @ eh, (pd - pb) @ eh
-    beta1, beta2 = (pc - pa) @ eh, (pd - pa) @ eh
-    # derivatives with respect to (c, d, a, b): dn (4, 3, 3), scalars' gradients (4, 3)
-    dn1 = np.zeros((4, 3, 3))
-    dn2 = np.zeros((4, 3, 3))
-    m = np.empty((3, 3))
-    _cross_matrix(e, m)
-    dn1[0] = m
-    dn2[1] = -m
-    _cross_matrix(pc - pb, m)
-    dn1[2] = m
-    _cross_matrix(pc - pa, m)
-    dn1[3] = -m
-    _cross_matrix(pd - pa, m)
-    dn2[3] = m
-    _cross_matrix(pd - pb, m)
-    dn2[2] = -m
-    dle = np.zeros((4, 3))
-    dle[2], dle[3] = -eh, eh
-    dal1, dal2, dbe1, dbe2 = np.zeros((4, 3)), np.zeros((4, 3)), np.zeros((4, 3)), np.zeros((4, 3))
-    dal1[0] = eh
-    dal1[3] = -eh + pe @ (pc - pb)
-    dal1[2] = -(pe @ (pc - pb))
-    dal2[1] = eh
-    dal2[3] = -eh + pe @ (pd - pb)
-    dal2[2] = -(pe @ (pd - pb))
-    dbe1[0] = eh
-    dbe1[2] = -eh - pe @ (pc - pa)
-    dbe1[3] = pe @ (pc - pa)
-    dbe2[1] = eh
-    dbe2[2] = -eh - pe @ (pd - pa)
-    dbe2[3] = pe @ (pd - pa)
+    :func:`structure.bending._dihedral` with respect to (c, d, a, b) (1/m^2). ``work``: a
+    scratch array (64, 3) (allocated when None)."""
+    if work is None:
+        work = np.empty((64, 3))
+    e, eh, n1, n2 = work[0], work[1], work[2], work[3]
+    w1, w2, t0, t1 = work[4], work[5], work[6], work[7]
+    # dn1, dn2 (4 nodes x 3 x 3): rows 8..19 and 20..31; wn1, wn2, pe: rows 32..40
+    dn1 = work[8:20].reshape((4, 3, 3))
+    dn2 = work[20:32].reshape((4, 3, 3))
+    wn1, wn2, pe = work[32:35], work[35:38], work[38:41]
+    dle, dal1, dal2 = work[41:45], work[45:49], work[49:53]
+    dbe1, dbe2 = work[53:57], work[57:61]
+    dw1, dw2 = work[61:64], np.empty((3, 3))
+    for r in range(3):
+        e[r] = pb[r] - pa[r]
+    le = np.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+    for r in range(3):
+        eh[r] = e[r] / le
+        t0[r] = pc[r] - pa[r]
+        t1[r] = pc[r] - pb[r]
+    _cross(t0, t1, n1)
+    for r in range(3):
+        t0[r] = pd[r] - pb[r]
+        t1[r] = pd[r] - pa[r]
+    _cross(t0, t1, n2)
+    s1 = n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]
+    s2 = n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]
+    for r in range(3):
+        w1[r] = n1[r] / s1
+        w2[r] = n2[r] / s2
+    for r in range(3):
+        for c in range(3):
+            eye = 1.0 if r == c else 0.0
+            wn1[r, c] = (eye - 2.0 * n1[r] * n1[c] / s1) / s1
+            wn2[r, c] = (eye - 2.0 * n2[r] * n2[c] / s2) / s2
+            pe[r, c] = (eye - eh[r] * eh[c]) / le
+    alpha1 = alpha2 = beta1 = beta2 = 0.0
+    for r in range(3):
+        alpha1 += (pc[r] - pb[r]) * eh[r]
+        alpha2 += (pd[r] - pb[r]) * eh[r]
+        beta1 += (pc[r] - pa[r]) * eh[r]
+        beta2 += (pd[r] - pa[r]) * eh[r]
+    dn1[:, :, :] = 0.0
+    dn2[:, :, :] = 0.0
+    _cross_matrix(e, dn1[0])
+    _cross_matrix(e, dn2[1])
+    for r in range(3):
+        for c in range(3):
+            dn2[1, r, c] = -dn2[1, r, c]
+    for r in range(3):
+        t0[r] = pc[r] - pb[r]
+    _cross_matrix(t0, dn1[2])
+    for r in range(3):
+        t0[r] = pc[r] - pa[r]
+    _cross_matrix(t0, dn1[3])
+    for r in range(3):
+        t0[r] = pd[r] - pa[r]
+    _cross_matrix(t0, dn2[3])
+    for r in range(3):
+        t0[r] = pd[r] - pb[r]
+    _cross_matrix(t0, dn2[2])
+    for r in range(3):
+        for c in range(3):
+            dn1[3, r, c] = -dn1[3, r, c]
+            dn2[2, r, c] = -dn2[2, r, c]
+    dle[:, :] = 0.0
+    dal1[:, :] = 0.0
+    dal2[:, :] = 0.0
+    dbe1[:, :] = 0.0
+    dbe2[:, :] = 0.0
+    for r in range(3):
+        dle[2, r], dle[3, r] = -eh[r], eh[r]
+        dal1[0, r] = dbe1[0, r] = eh[r]
+        dal2[1, r] = dbe2[1, r] = eh[r]
+    for r in range(3):
+        pcb = pdb = pca = pda = 0.0
+        for c in range(3):
+            pcb += pe[r, c] * (pc[c] - pb[c])
+            pdb += pe[r, c] * (pd[c] - pb[c])
+            pca += pe[r, c] * (pc[c] - pa[c])
+            pda += pe[r, c] * (pd[c] - pa[c])
+        dal1[3, r] = -eh[r] + pcb
+        dal1[2, r] = -pcb
+        dal2[3, r] = -eh[r] + pdb
+        dal2[2, r] = -pdb
+        dbe1[2, r] = -eh[r] - pca
+        dbe1[3, r] = pca
+        dbe2[2, r] = -eh[r] - pda
+        dbe2[3, r] = pda
     for y in range(4):
-        dw1 = wn1 @ dn1[y]
-        dw2 = wn2 @ dn2[y]
-        hess[0, y] = SIGN * (np.outer(w1, dle[y]) + le * dw1)
-        hess[1, y] = SIGN * (np.outer(w2, dle[y]) + le * dw2)
-        hess[2, y] = SIGN * (np.outer(w1, dal1[y]) + alpha1 * dw1
-                             + np.outer(w2, dal2[y]) + alpha2 * dw2)
-        hess[3, y] = -SIGN * (np.outer(w1, dbe1[y]) + beta1 * dw1
-                              + np.outer(w2, dbe2[y]) + beta2 * dw2)
+        for r in range(3):
+            for c in range(3):
+                a1 = 0.0
+                a2 = 0.0
+                for k in range(3):
+                    a1 += wn1[r, k] * dn1[y, k, c]
+                    a2 += wn2[r, k] * dn2[y, k, c]
+                dw1[r, c] = a1
+                dw2[r, c] = a2
+        for r in range(3):
+            for c in range(3):
+                hess[0, y, r, c] = SIGN * (w1[r] * dle[y, c] + le * dw1[r, c])
+                hess[1, y, r, c] = SIGN * (w2[r] * dle[y, c] + le * dw2[r, c])
+                hess[2, y, r, c] = SIGN * (w1[r] * dal1[y, c] + alpha1 * dw1[r, c]
+                                           + w2[r] * dal2[y, c] + alpha2 * dw2[r, c])
+                hess[3, y, r, c] = -SIGN * (w1[r] * dbe1[y, c] + beta1 * dw1[r, c]
+                                            + w2[r] * dbe2[y, c] + beta2 * dw2[r, c])
 
 
 @njit(**JIT)
@@ -114,6 +175,7 @@ def element_hessians(x, triangles, flap, ghost, active, rest_angle, stiffness, n
     force = np.empty(3)
     local = np.empty((3, 4), dtype=np.int64)
     hess = np.empty((4, 4, 3, 3))
+    work = np.empty((64, 3))
     energy = 0.0
     for t in range(m):
         _triangle(x, triangles, flap, ghost, active, rest_angle, t, nodes, grads, delta)
@@ -154,7 +216,7 @@ def element_hessians(x, triangles, flap, ghost, active, rest_angle, stiffness, n
             c_, a_, b_, d_ = (triangles[t, i], triangles[t, (i + 1) % 3],
                               triangles[t, (i + 2) % 3], flap[t, i])
             pd = x[d_] if d_ >= 0 else ghost[t, i]
-            dihedral_hessian(x[c_], pd, x[a_], x[b_], hess)
+            dihedral_hessian(x[c_], pd, x[a_], x[b_], hess, work)
             for p in range(4):
                 for q in range(4):
                     if nodes[i, p] < 0 or nodes[i, q] < 0:
