@@ -179,20 +179,24 @@ def newton_at_volume(model: NewtonModel, x: np.ndarray, level: float, load: Load
     scales = scales or _Scales(model, load)
     x = np.array(x, dtype=float)
     lin = linearise(model, x, level, load)
+    shifts = _shifts(model, scales)
+    k = 0  # index of the Levenberg shift in use: raised on a rejected step, lowered after
     for it in range(1, settings.max_iterations + 1):
         if _converged(model, lin, target, settings, scales):
             return x, level, it - 1, True, lin
         ok = False
-        for shift in _shifts(model, scales):
-            step = _bordered_step(model, lin, target, scales, shift)
-            if step is None:
-                continue
-            dx, dp = step
-            x_new, level_new, lin_new, ok = _line_search(model, x, level, dx, dp, lin, load,
-                                                         target, settings, scales)
+        while k < len(shifts):
+            step = _bordered_step(model, lin, target, scales, shifts[k])
+            if step is not None:
+                dx, dp = step
+                x_new, level_new, lin_new, ok = _line_search(
+                    model, x, level, dx, dp, lin, load, target, settings, scales,
+                    backtracks=20 if k == len(shifts) - 1 else 4)
             if ok:
                 x, level, lin = x_new, level_new, lin_new
+                k = max(k - 1, 0)
                 break
+            k += 1
         if not ok:
             return x, level, it, False, lin
     return x, level, settings.max_iterations, _converged(model, lin, target, settings,
@@ -205,15 +209,19 @@ def _converged(model, lin, target, settings, scales) -> bool:
 
 
 def _shifts(model, scales):
-    """The Levenberg shifts tau (1/s^2) tried in turn: none, then growing tenfold from a
-    millionth of the pressure's stiffness per unit mass."""
+    """The Levenberg shifts tau (1/s^2): none, then growing tenfold from a millionth of the
+    pressure's stiffness per unit mass. A step is tried with at most four halvings; where
+    the merit does not fall the next shift is used, and after an accepted step the previous
+    one (Levenberg-Marquardt's adaptive damping, so that an indefinite tangent's poor
+    direction is not followed in tiny steps)."""
     base = model.base
     mass = float(base.node_mass[model.free].mean()) if model.free.any() else 1.0
     first = 1e-6 * scales.force / scales.length / mass
-    return [0.0] + [first * 10.0**k for k in range(0, 12, 2)]
+    return [0.0] + [first * 10.0**k for k in range(0, 13)]
 
 
-def _line_search(model, x, level, dx, dp, lin, load, target, settings, scales):
+def _line_search(model, x, level, dx, dp, lin, load, target, settings, scales,
+                 backtracks: int = 20):
     """Backtracking from the capped step until the merit falls (Armijo, 1e-4 of the
     directional derivative); the new (x, level, linearisation, whether it fell). False
     at once when the step is not a descent direction of the merit."""
@@ -228,7 +236,7 @@ def _line_search(model, x, level, dx, dp, lin, load, target, settings, scales):
     else:
         slope = -2.0 * start
     alpha = _capped(model, dx, settings, scales)
-    for _ in range(20):
+    for _ in range(backtracks):
         x_new = x + alpha * dx
         level_new = level + alpha * dp
         trial = linearise(model, x_new, level_new, load, hessian=False)
