@@ -18,7 +18,8 @@ top-level object as one row); with an object of objects, ``:key: HEADER`` adds i
 the first column and ``:exclude: KEY, ...`` leaves those keys' entries out.  ``:columns:`` is
 a comma-separated list of ``PATH[=HEADER][:FORMAT]`` (semicolons instead when a format groups
 thousands with ``,``),
-PATH dotted inside a row (``@key`` is the row's key), FORMAT a Python format spec.
+PATH dotted inside a row (``@key`` is the row's key; a trailing ``?`` makes it optional, '–'
+where a row has none), FORMAT a Python format spec.
 
 One number in running text (MyST): ``{data}`fluid_step:ratio:.2f``` renders the value at the
 dotted path with the format; the first number a page takes from a file carries a footnote
@@ -145,8 +146,8 @@ class DataTable(SphinxDirective):
     def run(self) -> list[nodes.Node]:
         name = self.arguments[0]
         try:
+            self.env.note_dependency(str(Path(self.env.srcdir) / DATA_DIR / f"{name}.json"))
             data, path = load(self.env.srcdir, name)
-            self.env.note_dependency(str(path))
             if "rows" not in self.options or "columns" not in self.options:
                 raise DataError("data-table needs :rows: and :columns:")
             rows = lookup(data, self.options["rows"], f"{name}.json")
@@ -171,6 +172,11 @@ class DataTable(SphinxDirective):
                         if key is None:
                             raise DataError(f"{where}: @key needs rows that are an object")
                         cells.append(str(key))
+                    elif path_.endswith("?"):  # optional: '–' where the row has none
+                        try:
+                            cells.append(render(lookup(row, path_[:-1], where), fmt))
+                        except DataError:
+                            cells.append(render(None, fmt))
                     else:
                         cells.append(render(lookup(row, path_, where), fmt))
                 body.append(cells)
@@ -218,8 +224,9 @@ def data_role(name, rawtext, text, lineno, inliner, options=None, content=None):
         if len(parts) < 2:
             raise DataError(f"{text!r}: expected NAME:PATH[:FORMAT]")
         bench, path, fmt = parts[0], parts[1], parts[2] if len(parts) > 2 else ""
+        # the page depends on the file even while it is missing: it is rebuilt when it appears
+        env.note_dependency(str(Path(env.srcdir) / DATA_DIR / f"{bench}.json"))
         data, file = load(env.srcdir, bench)
-        env.note_dependency(str(file))
         value = render(lookup(data, path, f"{bench}.json"), fmt)
     except (DataError, ValueError) as error:
         message = inliner.reporter.error(f"data: {error}", line=lineno)
