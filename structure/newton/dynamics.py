@@ -1,0 +1,207 @@
+"""Implicit dynamics of the membrane: the generalised-alpha method (Chung & Hulbert 1993),
+Newton in each step, no Courant limit.
+
+For M a + C v + r(x, p0) = 0, r the residual of :mod:`.system` (internal forces minus the
+load, the level p0 the multiplier of the volume where the load holds one), the step from
+t_n to t_n+1 satisfies
+
+    M a_{n+1-am} + C v_{n+1-af} + r(x_{n+1-af}, p0) = 0,
+    x_{n+1} = x_n + dt v_n + dt^2 [(1/2 - beta) a_n + beta a_{n+1}],
+    v_{n+1} = v_n + dt [(1 - gamma) a_n + gamma a_{n+1}],
+
+with y_{n+1-a} = (1 - a) y_{n+1} + a y_n and, for the high-frequency spectral radius rho_inf
+in [0, 1], am = (2 rho_inf - 1)/(rho_inf + 1), af = rho_inf/(rho_inf + 1), gamma = 1/2 - am + af,
+beta = (1 - am + af)^2 / 4: second order, unconditionally stable, and without numerical
+dissipation at rho_inf = 1 (the trapezoidal rule). The unknown is x_{n+1} (with p0 where the
+volume is held: V(x_{n+1}) = V*); its Jacobian is
+
+    M (1 - am)/(beta dt^2) + C gamma (1 - af)/(beta dt) + (1 - af) K(x_{n+1-af}),
+
+solved with the volume's border as in the statics. M is the lumped node masses, C the node
+damping's edge Laplacian (:mod:`structure.tangent.inertia`) when ``node_damping`` > 0.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..load import Load, StepInfo
+from ..model import MembraneState
+from ..tangent.inertia import DampingTerm, triangle_edges
+from .linear import Factorisation, SingularTangent
+from .system import NewtonModel, linearise
+
+
+STAGNATION = 1e-13
+"""A step's Newton also converges when its correction is below this fraction of the tank
+radius (round-off; -)."""
+
+
+class NewtonDivergence(RuntimeError):
+    """A step's Newton iteration did not converge (the caller may shorten the step)."""
+
+
+@dataclass(frozen=True)
+class AlphaSettings:
+    """Settings of the generalised-alpha steps.
+
+    * rho_inf : the high-frequency spectral radius in [0, 1] (1: no numerical dissipation);
+    * force_tolerance : a step's Newton converges when the largest free-node residual force is
+      below this fraction of the largest inertial or load force of the step (-);
+    * max_iterations : Newton iterations per step;
+    * node_damping : c (N s/m) of the relative node damping (0: none).
+    """
+
+    rho_inf: float = 1.0
+    force_tolerance: float = 1e-8
+    max_iterations: int = 25
+    node_damping: float = 0.0
+
+    def __post_init__(self):
+        if not 0.0 <= self.rho_inf <= 1.0:
+            raise ValueError(f"rho_inf must be in [0, 1], got {self.rho_inf!r}")
+        if not self.force_tolerance > 0:
+            raise ValueError(f"force_tolerance must be > 0, got {self.force_tolerance!r}")
+        if self.max_iterations < 1:
+            raise ValueError(f"max_iterations must be >= 1, got {self.max_iterations!r}")
+        if not self.node_damping >= 0:
+            raise ValueError(f"node_damping must be >= 0 N s/m, got {self.node_damping!r}")
+
+    @property
+    def coefficients(self) -> tuple[float, float, float, float]:
+        """(alpha_m, alpha_f, gamma, beta) of Chung & Hulbert (1993)."""
+        r = self.rho_inf
+        am = (2.0 * r - 1.0) / (r + 1.0)
+        af = r / (r + 1.0)
+        gamma = 0.5 - am + af
+        beta = 0.25 * (1.0 - am + af) ** 2
+        return am, af, gamma, beta
+
+
+@dataclass
+class AlphaState(MembraneState):
+    """Positions (n, 3) m, velocities (n, 3) m/s and accelerations (n, 3) m/s^2 (None: found
+    from the equations of motion at the first step)."""
+
+    node_acceleration: Optional[np.ndarray] = None
+
+
+def _damping(model: NewtonModel, coefficient: float):
+    if coefficient <= 0:
+        return None
+    edges = triangle_edges(model.terms[0].element_nodes)
+    return DampingTerm(edges, coefficient)
+
+
+def initial_acceleration(model: NewtonModel, state: MembraneState, load: Load,
+                         level: float, damping=None) -> np.ndarray:
+    """a_0 = -M^-1 (r(x_0, p0) + C v_0) on the free nodes, zero on the fixed ones."""
+    x = np.asarray(state.node_position, dtype=float)
+    v = np.asarray(state.node_velocity, dtype=float)
+    force = linearise(model, x, level, load, hessian=False).residual
+    if damping is not None:
+        force = force + damping.evaluate(v, False)[1]
+    a = -force / model.base.node_mass[:, None]
+    a[model.base.node_fixed] = 0.0
+    return a
+
+
+def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
+         settings: AlphaSettings = AlphaSettings()) -> tuple[AlphaState, StepInfo]:
+    """One generalised-alpha step of ``dt`` (s) from ``state`` under ``load`` (its node
+    pressure held over the step; with ``load.volume_target`` the volume reaches it at the
+    step's end and the level is its multiplier, started at ``load.pressure_level``; without,
+    the level ``load.pressure_level`` is held). Returns (:class:`AlphaState` at t + dt,
+    :class:`structure.load.StepInfo` with the Newton iterations and the level). Raises
+    :class:`NewtonDivergence` when the step's Newton does not converge."""
+    if not dt > 0:
+        raise ValueError(f"time step must be > 0 s, got {dt!r}")
+    am, af, gamma, beta = settings.coefficients
+    base = model.base
+    fixed = base.node_fixed
+    mass = base.node_mass[:, None]
+    damping = _damping(model, settings.node_damping)
+    level = float(load.pressure_level)
+    x0 = np.array(state.node_position, dtype=float)
+    v0 = np.array(state.node_velocity, dtype=float)
+    a0 = getattr(state, "node_acceleration", None)
+    a0 = initial_acceleration(model, state, load, level, damping) if a0 is None else \
+        np.array(a0, dtype=float)
+    # predictor: the step's end at constant acceleration (a_{n+1} = a_n)
+    x = x0 + dt * v0 + dt * dt * 0.5 * a0
+    held = load.volume_target is not None
+    c_m = (1.0 - am) / (beta * dt * dt)
+    c_c = gamma * (1.0 - af) / (beta * dt)
+    mass_diag = np.repeat(np.where(fixed, 0.0, base.node_mass), 3)
+    damping_matrix = None
+    scale = None
+    for it in range(1, settings.max_iterations + 1):
+        a = (x - x0 - dt * v0 - dt * dt * (0.5 - beta) * a0) / (beta * dt * dt)
+        v = v0 + dt * ((1.0 - gamma) * a0 + gamma * a)
+        xa = (1.0 - af) * x + af * x0
+        va = (1.0 - af) * v + af * v0
+        aa = (1.0 - am) * a + am * a0
+        lin = linearise(model, xa, level, load)
+        inertia = mass * aa
+        residual = inertia + lin.residual
+        if damping is not None:
+            residual = residual + damping.evaluate(va, False)[1]
+        residual[fixed] = 0.0
+        if scale is None:
+            scale = max(float(np.abs(inertia[~fixed]).max(initial=0.0)),
+                        float(np.abs(lin.residual[~fixed] + inertia[~fixed]).max(initial=0.0)),
+                        float(np.abs(lin.residual[~fixed]).max(initial=0.0)), 1e-30)
+        volume_error = 0.0
+        if held:
+            from ..volume import liquid_volume
+            volume_error = load.volume_target - liquid_volume(base, x)
+        if float(np.abs(residual).max()) <= settings.force_tolerance * scale and \
+                abs(volume_error) <= 1e-12 * max(abs(load.volume_target or 1.0), 1e-30):
+            return _done(x, v, a, fixed, level, it - 1)
+        matrix = (1.0 - af) * lin.matrix + sp.diags(c_m * mass_diag)
+        if damping is not None:
+            if damping_matrix is None:
+                from ..tangent.pattern import Tangent
+                damping_matrix = Tangent.build(len(x), [damping]).evaluate(v)[2]
+            matrix = matrix + c_c * damping_matrix
+        try:
+            lu = Factorisation(matrix)
+            dx_a = lu.solve(-residual)
+            if held:
+                g_alpha = (1.0 - af) * lin.volume_gradient  # dR/dp0 = -g(x_a)
+                from ..volume import liquid_volume_gradient
+                g_end = liquid_volume_gradient(base, x)
+                g_end[fixed] = 0.0
+                b = lu.solve(g_alpha / (1.0 - af))
+                gb = float(np.sum(g_end * b))
+                dp = (volume_error - float(np.sum(g_end * dx_a))) / gb
+                dx = dx_a + dp * b
+                level += dp
+            else:
+                dx = dx_a
+        except SingularTangent as error:
+            raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: {error}") from error
+        dx[fixed] = 0.0
+        x = x + dx
+        if not np.all(np.isfinite(x)):
+            break
+        if float(np.abs(dx).max()) <= STAGNATION * base.radius and \
+                abs(volume_error) <= 1e-9 * max(abs(load.volume_target or 0.0), 1e-30):
+            # the correction is at round-off: the residual's floor is the cancellation of
+            # the element forces, not a lack of convergence
+            a = (x - x0 - dt * v0 - dt * dt * (0.5 - beta) * a0) / (beta * dt * dt)
+            v = v0 + dt * ((1.0 - gamma) * a0 + gamma * a)
+            return _done(x, v, a, fixed, level, it)
+    raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: Newton did not converge in "
+                           f"{settings.max_iterations} iterations")
+
+
+def _done(x, v, a, fixed, level, iterations):
+    v = v.copy()
+    a = a.copy()
+    v[fixed] = 0.0
+    a[fixed] = 0.0
+    return AlphaState(x, v, node_acceleration=a), StepInfo(iterations, float(level))
