@@ -1,6 +1,6 @@
 """Sparse direct solves of the tangent: SciPy's SuperLU (an LU, so indefinite and
 non-symmetric tangents are solved as well), the factors kept so that one factorisation serves
-several right-hand sides (the bordered solves of :mod:`.statics`) and, in a modified Newton
+several right-hand sides (the bordered solves of :mod:`structure.newton.statics`) and, in a modified Newton
 iteration, several iterations.
 
 The column ordering is SuperLU's minimum degree on A^T + A (``MMD_AT_PLUS_A``): the tangent's

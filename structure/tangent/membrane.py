@@ -5,7 +5,7 @@ A triangle (a, b, c) with rest-frame inverse D (2, 2) has the deformation gradie
 f_j = (x_b - x_a) D[0, j] + (x_c - x_a) D[1, j] (j = 0, 1) and C = F^T F, stored as
 c = (c00, c11, c01) = (f0.f0, f1.f1, f0.f1). Every law is an energy psi(c) (J) with its
 derivatives psi_c (3,) and psi_cc (3, 3); the chain rule through c(F) and F(x) gives the
-9 x 9 element Hessian:
+9 x 9 element Hessian::
 
     dpsi/df0 = 2 psi_0 f0 + psi_2 f1,      dpsi/df1 = 2 psi_1 f1 + psi_2 f0,
     d2psi/dfj dfk = sum_ab psi_ab (dc_a/dfj)(dc_b/dfk)^T + 2 psi_0 I [j=k=0]
