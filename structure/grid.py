@@ -194,6 +194,13 @@ def triangles_from_quads(face_nodes: np.ndarray) -> np.ndarray:
     return np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]], axis=0)
 
 
+def triangle_edges(triangles: np.ndarray) -> np.ndarray:
+    """(e, 2) int64: the triangles' (m, 3) edges, each once, its nodes sorted."""
+    t = np.asarray(triangles, dtype=np.int64)
+    return np.unique(np.sort(np.vstack([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1),
+                     axis=0)
+
+
 @dataclass(frozen=True)
 class GridQuality:
     """Quad-grid quality metrics (dimensionless).

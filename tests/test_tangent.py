@@ -18,7 +18,8 @@ from structure.hyperelastic import HyperelasticLaw, SaintVenantKirchhoff, Triang
 from structure.model import Material, hemisphere_model
 from structure.tangent import Tangent
 from structure.tangent.bending import BendingTerm
-from structure.tangent.inertia import DampingTerm, KineticTerm, triangle_edges
+from structure.grid import triangle_edges
+from structure.tangent.inertia import DampingTerm, KineticTerm
 from structure.tangent.load import LiquidTerm, WallTerm
 from structure.tangent.membrane import MembraneTerm, regimes
 from structure.volume import (liquid_first_moment, liquid_volume, liquid_volume_gradient,

@@ -30,7 +30,10 @@ import scipy.sparse as sp
 
 from ..load import Load, StepInfo
 from ..model import MembraneState
-from ..tangent.inertia import DampingTerm, triangle_edges
+from ..grid import triangle_edges
+from ..tangent.inertia import DampingTerm
+from ..tangent.pattern import Tangent
+from ..volume import liquid_volume, liquid_volume_gradient
 from .linear import Factorisation, SingularTangent
 from .system import NewtonModel, linearise
 
@@ -156,7 +159,6 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
                         float(np.abs(lin.residual[~fixed]).max(initial=0.0)), 1e-30)
         volume_error = 0.0
         if held:
-            from ..volume import liquid_volume
             volume_error = load.volume_target - liquid_volume(base, x)
         if float(np.abs(residual).max()) <= settings.force_tolerance * scale and \
                 abs(volume_error) <= 1e-12 * max(abs(load.volume_target or 1.0), 1e-30):
@@ -164,18 +166,16 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
         matrix = (1.0 - af) * lin.matrix + sp.diags(c_m * mass_diag)
         if damping is not None:
             if damping_matrix is None:
-                from ..tangent.pattern import Tangent
                 damping_matrix = Tangent.build(len(x), [damping]).evaluate(v)[2]
             matrix = matrix + c_c * damping_matrix
         try:
             lu = Factorisation(matrix)
             dx_a = lu.solve(-residual)
             if held:
-                g_alpha = (1.0 - af) * lin.volume_gradient  # dR/dp0 = -g(x_a)
-                from ..volume import liquid_volume_gradient
+                # dR/dp0 = -g(x_a); the constraint's gradient is g(x_{n+1})
                 g_end = liquid_volume_gradient(base, x)
                 g_end[fixed] = 0.0
-                b = lu.solve(g_alpha / (1.0 - af))
+                b = lu.solve(lin.volume_gradient)
                 gb = float(np.sum(g_end * b))
                 dp = (volume_error - float(np.sum(g_end * dx_a))) / gb
                 dx = dx_a + dp * b

@@ -15,13 +15,6 @@ from dataclasses import dataclass
 import numpy as np
 
 
-def triangle_edges(triangles: np.ndarray) -> np.ndarray:
-    """(e, 2) int64: the triangles' (m, 3) edges, each once, sorted."""
-    t = np.asarray(triangles, dtype=np.int64)
-    return np.unique(np.sort(np.vstack([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1),
-                     axis=0)
-
-
 @dataclass(frozen=True)
 class KineticTerm:
     """1/2 v^T M v of the lumped node masses ``node_mass`` (n,) kg."""

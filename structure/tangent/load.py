@@ -27,15 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from ..grid import triangles_from_quads
+
 JIT = dict(cache=True, nogil=True)
-
-
-def face_triangles(face_nodes: np.ndarray) -> np.ndarray:
-    """(2 m, 3) int64: the quads (m, 4) split along their first diagonal, in the order the
-    volume kernels of :mod:`structure.kernels` sum them."""
-    f = np.asarray(face_nodes, dtype=np.int64)
-    return np.ascontiguousarray(np.stack([f[:, [0, 1, 2]], f[:, [0, 2, 3]]], axis=1)
-                                .reshape(-1, 3))
 
 
 @njit(**JIT)
@@ -142,7 +136,8 @@ class LiquidTerm:
     moment_weight = -rho b it is the hydrostatic load's potential but for the nodes' own
     weight, whose Hessian is zero.
 
-    triangles (m, 3) int64 (:func:`face_triangles` of the grid's quads); sign (-) the grid's
+    triangles (m, 3) int64 (the grid's quads split as :func:`structure.grid.
+    triangles_from_quads` does, the split the volume kernels sum); sign (-) the grid's
     ``volume_sign``; volume_weight Pa; moment_weight (3,) N/m^3."""
 
     triangles: np.ndarray
@@ -154,7 +149,8 @@ class LiquidTerm:
     def of_model(cls, model, volume_weight: float = 0.0,
                  moment_weight=(0.0, 0.0, 0.0)) -> "LiquidTerm":
         """The term on a :class:`structure.model.MembraneModel`'s grid."""
-        return cls(face_triangles(model.face_nodes), float(model.volume_sign),
+        return cls(np.ascontiguousarray(triangles_from_quads(model.face_nodes), dtype=np.int64),
+                   float(model.volume_sign),
                    float(volume_weight), tuple(float(w) for w in moment_weight))
 
     @property

@@ -28,14 +28,13 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from ..grid import triangle_edges
 from .model import XpbdModel
 
 
 def edge_laplacian(triangles: np.ndarray, n: int) -> sp.csr_matrix:
     """Graph Laplacian (n, n) of the triangles' (m, 3) edges: (L v)_i = sum_{j ~ i} (v_j - v_i)."""
-    t = np.asarray(triangles)
-    edges = np.unique(np.sort(np.vstack([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1),
-                      axis=0)
+    edges = triangle_edges(triangles)
     adjacency = sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
     adjacency = (adjacency + adjacency.T).tocsr()
     return (adjacency - sp.diags(np.asarray(adjacency.sum(axis=1)).ravel())).tocsr()
