@@ -67,7 +67,7 @@ class NewtonModel:
         row = np.repeat(np.arange(n), np.diff(pattern.indptr))
         fixed = base.node_fixed
         fixed_block = fixed[row] | fixed[pattern.indices]
-        diagonal = np.flatnonzero(fixed & True)
+        diagonal = np.flatnonzero(fixed)
         diagonal_block = pattern.slots[-1][diagonal, 0, 0]
         return cls(base, terms, volume, load_form, pattern, fixed_block, diagonal_block)
 
