@@ -22,6 +22,9 @@ over the shell against w0 / t, the thesis's limits marked); prints one JSON obje
 also writes it to ``docs/data/plate_estimates.json``). Default run: about 4.5 min on 2 cores
 (N = 38: 13 s per load). ``--smoke``: :data:`SMOKE` (two coarse grids, :data:`SMOKE_LOADS` loads;
 its files under ``benchmarks/output/smoke/``).
+3. Newton on the finest grid's same energies (:meth:`structure.plate.ShellDisc.
+   newton_centre_deflections`), timed in the same run as the shell's L-BFGS, its peer:
+   ``newton`` (seconds per load, the speed-up over the shell, the largest difference of w0).
 """
 from __future__ import annotations
 
@@ -42,7 +45,7 @@ from structure.plate import (ESTIMATES, LARGE_DEFLECTION_LIMIT, SMALL_DEFLECTION
 
 #: the JSON's top-level keys the documentation reads
 DOC_FIELDS = ("grid_sizes", "validity", "thesis_cases", "seconds_per_load", "grid_error",
-              "speed_ratio_shell_over_closed_forms")
+              "newton", "speed_ratio_shell_over_closed_forms")
 #: --smoke: the grids and the number of loads over the same range (both sides of 3 t)
 SMOKE = dict(grid_sizes=[4, 8])
 SMOKE_LOADS = 4
@@ -63,6 +66,20 @@ def shell_sweep(plate: FlatDiaphragm, grid_sizes, loads) -> dict:
         out[n] = dict(w0=w0, seconds_per_load=(time.perf_counter() - t0) / len(loads))
         print(f"N = {n}: {out[n]['seconds_per_load']:.1f} s per load", file=sys.stderr)
     return out
+
+
+def newton_sweep(plate: FlatDiaphragm, grid_size: int, loads, w0_shell) -> dict:
+    """The same loads by Newton on the same energies and grid (the peer of the shell's
+    L-BFGS in the same run): seconds per load, the ratio, and the largest relative
+    difference of w0 from the shell's."""
+    disc = ShellDisc.build(plate, grid_size)
+    model = disc.newton_model()
+    disc.newton_centre_deflections(loads[:2], model)  # compile the kernels
+    t0 = time.perf_counter()
+    w0, converged = disc.newton_centre_deflections(loads, model)
+    seconds = (time.perf_counter() - t0) / len(loads)
+    return dict(grid_size=grid_size, seconds_per_load=seconds, all_converged=converged,
+                max_relative_w0_difference=float(np.max(np.abs(w0 / w0_shell - 1))))
 
 
 def validity(plate: FlatDiaphragm, loads, w0_shell) -> dict:
@@ -153,6 +170,9 @@ def main(argv=None) -> int:
     finest = shell[args.grid_sizes[-1]]["w0"]
     grid_error = np.abs(shell[args.grid_sizes[-2]]["w0"] / finest - 1) \
         if len(args.grid_sizes) > 1 else np.full(len(loads), np.nan)
+    newton = newton_sweep(plate, args.grid_sizes[-1], loads, finest)
+    newton["speedup_over_shell"] = shell[args.grid_sizes[-1]]["seconds_per_load"] \
+        / newton["seconds_per_load"]
     t0 = time.perf_counter()
     for q in loads:
         for e in ESTIMATES.values():
@@ -168,6 +188,7 @@ def main(argv=None) -> int:
                           **{f"shell_N{n}": s["seconds_per_load"] for n, s in shell.items()}},
         speed_ratio_shell_over_closed_forms=shell[args.grid_sizes[-1]]["seconds_per_load"]
         / closed_seconds,
+        newton=newton,
     )
     output.mkdir(parents=True, exist_ok=True)
     (output / "plate_estimates.json").write_text(json.dumps(result, indent=1))

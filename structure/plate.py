@@ -259,3 +259,38 @@ class ShellDisc:
             x = self.solve(float(q), x)
             out.append(x[self.centre, 2])
         return np.asarray(out)
+
+    def newton_model(self, density: float = 1000.0):
+        """The same energies for Newton's method (:class:`structure.newton.system.NewtonModel`
+        on the disc grid's :class:`structure.model.MembraneModel`, the outer ring held; the
+        lumped masses from ``density`` kg/m^3, which a static solve does not use)."""
+        from .model import Material, disc_model
+        from .newton.system import NewtonModel
+        from .tangent.bending import BendingTerm
+        from .tangent.membrane import MembraneTerm
+
+        p = self.plate
+        base = disc_model(self.grid_size, p.radius,
+                          Material(p.thickness, density, p.youngs_modulus, p.poisson_ratio),
+                          "simply-supported")
+        terms = [MembraneTerm.from_triangle_membrane(self.membrane, self.law),
+                 BendingTerm(self.bending)]
+        return NewtonModel.build(base, terms, "energy")
+
+    def newton_centre_deflections(self, pressures, model=None):
+        """w0 (m) at each of ``pressures`` (Pa, increasing) by Newton under the held pressure
+        (:func:`structure.newton.statics.newton_at_level`), by continuation from the flat disc
+        nudged off its bifurcation point; and whether every load converged."""
+        from .load import Load
+        from .newton.statics import newton_at_level
+
+        model = model or self.newton_model()
+        x = self.node_position.copy()
+        x[~model.base.node_fixed, 2] += 1e-6
+        out, converged = [], True
+        for q in pressures:
+            load = Load(np.zeros(len(x)), np.zeros(3), None, float(q), 0.0)
+            x, _, ok, _ = newton_at_level(model, x, load)
+            converged &= bool(ok)
+            out.append(x[self.centre, 2])
+        return np.asarray(out), converged

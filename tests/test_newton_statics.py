@@ -18,12 +18,10 @@ from fsi.scene import load_scene
 from fsi.setup.build import build
 from fsi.setup.models import STRUCTURE_MODELS, hydrostatic_load
 from structure.load import Load
-from structure.model import Material, MembraneState, disc_model
+from structure.model import MembraneState
 from structure.newton import statics as S
 from structure.newton.system import NewtonModel
 from structure.plate import FlatDiaphragm, ShellDisc
-from structure.tangent.bending import BendingTerm
-from structure.tangent.membrane import MembraneTerm
 from structure.volume import tank_volume
 
 PLATE = FlatDiaphragm(0.20955, 0.001778, 8.6e6, 0.5)
@@ -34,13 +32,9 @@ EQN_6_1_BAR = 0.05  # %
 
 def _newton_disc(grid_size: int):
     disc = ShellDisc.build(PLATE, grid_size)
-    material = Material(PLATE.thickness, 1000.0, PLATE.youngs_modulus, PLATE.poisson_ratio)
-    base = disc_model(grid_size, PLATE.radius, material, "simply-supported")
-    assert np.allclose(base.node_rest_position, disc.node_position)
-    model = NewtonModel.build(base, [MembraneTerm.from_triangle_membrane(disc.membrane,
-                                                                         disc.law),
-                                     BendingTerm(disc.bending)], "energy")
-    return disc, base, model
+    model = disc.newton_model()
+    assert np.allclose(model.base.node_rest_position, disc.node_position)
+    return disc, model.base, model
 
 
 @pytest.mark.parametrize("grid_size", [14, 20])
