@@ -18,7 +18,7 @@ N = 6):
   ``structure.model = "xpbd"`` runs it.
 
 A solver is not run on grids beyond the first where it took longer than ``--budget``
-seconds (the issue's 40 min). Per solver it records ``grid_size``, ``nodes``, ``seconds``,
+seconds (40 min). Per solver it records ``grid_size``, ``nodes``, ``seconds``,
 ``iterations`` (Newton iterations; L-BFGS iterations and substeps for the others),
 ``converged`` and the pressure level (Pa), and fits the exponent of seconds in nodes over
 its grids. Goals (the Newton solver): N = 38 in 10 s or less, N = 76 in 60 s, N = 150 in

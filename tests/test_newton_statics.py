@@ -2,7 +2,7 @@
 
 * The flat diaphragm of the thesis's Ch. 3 (clamped, held, 2 kPa; the shell's Saint
   Venant-Kirchhoff membrane and calibrated bending): Newton under the held pressure against
-  L-BFGS (:class:`structure.plate.ShellDisc`), N = 14 and 20. The issue's bar is Eqn 6.1 at
+  L-BFGS (:class:`structure.plate.ShellDisc`), N = 14 and 20. The bar is Eqn 6.1 at
   most 0.05 %; the iterations must not grow with N.
 * The Table 4.1 hemisphere at tank fraction 0.1 (N = 14): Newton's bordered solve from the
   shell's converged state keeps it (the same equilibrium of the same energy), holds the volume

@@ -9,7 +9,7 @@ to reproduce the same frequencies):
 * the clamped circular plate's fundamental, lambda^2 = omega a^2 sqrt(rho t / D) = 10.2158
   (Leissa, *Vibration of Plates*, NASA SP-160, 1969, Table 2.1).
 
-Each within 1 % at N = 38 (the issue's bar); the plate's error falls with the grid. The
+Each within 1 % at N = 38; the plate's error falls with the grid. The
 lowest out-of-plane eigenvalue of K w = omega^2 M w on the free nodes, by ARPACK in
 shift-invert mode.
 """
