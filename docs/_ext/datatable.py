@@ -96,16 +96,26 @@ def render(value: Any, spec: str) -> str:
     return str(value)
 
 
+def _load(data: dict) -> str:
+    """'; load average a / b / c' (1, 5, 15 min, at the run's end) where the file has it: a
+    timing taken beside other work reads high."""
+    load = data.get("load_average")
+    if not load:
+        return ""
+    return "; the machine's load average at its end " + " / ".join(f"{v:g}" for v in load) + \
+        " (1, 5, 15 min; 2 cores)"
+
+
 def credit(name: str, data: dict) -> str:
     command = data.get("command") or f"python benchmarks/{name}.py"
-    return f"measured at commit {data['commit']} on {data['date']} by {command}"
+    return f"measured at commit {data['commit']} on {data['date']} by {command}{_load(data)}"
 
 
 def credit_nodes(name: str, data: dict) -> list[nodes.Node]:
     command = data.get("command") or f"python benchmarks/{name}.py"
     return [nodes.Text("Measured at commit "), nodes.literal(text=str(data["commit"])),
             nodes.Text(f" on {data['date']} by "), nodes.literal(text=command),
-            nodes.Text(".")]
+            nodes.Text(f"{_load(data)}.")]
 
 
 def parse_columns(spec: str) -> list[tuple[str, str, str]]:
