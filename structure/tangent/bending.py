@@ -36,11 +36,11 @@ JIT = dict(cache=True, nogil=True)
 
 
 @njit(**JIT, inline="always")
-def _cross_matrix(v, out):
-    """out (3, 3) = [v]x, so that out @ u = v x u."""
-    out[0, 0], out[0, 1], out[0, 2] = 0.0, -v[2], v[1]
-    out[1, 0], out[1, 1], out[1, 2] = v[2], 0.0, -v[0]
-    out[2, 0], out[2, 1], out[2, 2] = -v[1], v[0], 0.0
+def _cross_difference(u, v, out):
+    """out (3, 3) = [u - v]x."""
+    out[0, 0], out[0, 1], out[0, 2] = 0.0, v[2] - u[2], u[1] - v[1]
+    out[1, 0], out[1, 1], out[1, 2] = u[2] - v[2], 0.0, v[0] - u[0]
+    out[2, 0], out[2, 1], out[2, 2] = v[1] - u[1], u[0] - v[0], 0.0
 
 
 @njit(**JIT, inline="always")
@@ -97,27 +97,12 @@ def dihedral_hessian(pc, pd, pa, pb, hess, work=None):
         beta2 += (pd[r] - pa[r]) * eh[r]
     dn1[:, :, :] = 0.0
     dn2[:, :, :] = 0.0
-    _cross_matrix(e, dn1[0])
-    _cross_matrix(e, dn2[1])
-    for r in range(3):
-        for c in range(3):
-            dn2[1, r, c] = -dn2[1, r, c]
-    for r in range(3):
-        t0[r] = pc[r] - pb[r]
-    _cross_matrix(t0, dn1[2])
-    for r in range(3):
-        t0[r] = pc[r] - pa[r]
-    _cross_matrix(t0, dn1[3])
-    for r in range(3):
-        t0[r] = pd[r] - pa[r]
-    _cross_matrix(t0, dn2[3])
-    for r in range(3):
-        t0[r] = pd[r] - pb[r]
-    _cross_matrix(t0, dn2[2])
-    for r in range(3):
-        for c in range(3):
-            dn1[3, r, c] = -dn1[3, r, c]
-            dn2[2, r, c] = -dn2[2, r, c]
+    _cross_difference(pb, pa, dn1[0])    # dn1/dc = [b - a]x
+    _cross_difference(pc, pb, dn1[2])    # dn1/da = [c - b]x
+    _cross_difference(pa, pc, dn1[3])    # dn1/db = [a - c]x
+    _cross_difference(pa, pb, dn2[1])    # dn2/dd = [a - b]x
+    _cross_difference(pb, pd, dn2[2])    # dn2/da = [b - d]x
+    _cross_difference(pd, pa, dn2[3])    # dn2/db = [d - a]x
     dle[:, :] = 0.0
     dal1[:, :] = 0.0
     dal2[:, :] = 0.0
