@@ -17,7 +17,8 @@ volume is held: V(x_{n+1}) = V*); its Jacobian is
 
     M (1 - am)/(beta dt^2) + C gamma (1 - af)/(beta dt) + (1 - af) K(x_{n+1-af}),
 
-solved with the volume's border as in the statics. M is the lumped node masses, C the node
+solved with the volume's border as in the statics, its factorisation kept across the step's
+iterations while they contract (modified Newton). M is the lumped node masses, C the node
 damping's edge Laplacian (:mod:`structure.tangent.inertia`) when ``node_damping`` > 0.
 """
 from __future__ import annotations
@@ -38,6 +39,9 @@ from .linear import Factorisation, SingularTangent
 from .system import NewtonModel, linearise
 
 
+CONTRACTION = 0.25
+"""Modified Newton keeps its factorisation while each iteration's residual is at most this
+fraction of the last (-)."""
 STAGNATION = 1e-13
 """A step's Newton also converges when its correction is below this fraction of the tank
 radius (round-off; -)."""
@@ -55,13 +59,17 @@ class AlphaSettings:
     * force_tolerance : a step's Newton converges when the largest free-node residual force is
       below this fraction of the largest inertial or load force of the step (-);
     * max_iterations : Newton iterations per step;
-    * node_damping : c (N s/m) of the relative node damping (0: none).
+    * node_damping : c (N s/m) of the relative node damping (0: none);
+    * reuse_factorisation : modified Newton: keep the step's factorised Jacobian while each
+      iteration cuts the residual to at most ``CONTRACTION`` of the last, refactorise when
+      one does not.
     """
 
     rho_inf: float = 1.0
     force_tolerance: float = 1e-8
     max_iterations: int = 25
     node_damping: float = 0.0
+    reuse_factorisation: bool = True
 
     def __post_init__(self):
         if not 0.0 <= self.rho_inf <= 1.0:
@@ -141,13 +149,14 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
     mass_diag = np.repeat(np.where(fixed, 0.0, base.node_mass), 3)
     damping_matrix = None
     scale = None
+    lu, previous = None, None
     for it in range(1, settings.max_iterations + 1):
         a = (x - x0 - dt * v0 - dt * dt * (0.5 - beta) * a0) / (beta * dt * dt)
         v = v0 + dt * ((1.0 - gamma) * a0 + gamma * a)
         xa = (1.0 - af) * x + af * x0
         va = (1.0 - af) * v + af * v0
         aa = (1.0 - am) * a + am * a0
-        lin = linearise(model, xa, level, load)
+        lin = linearise(model, xa, level, load, hessian=False)
         inertia = mass * aa
         residual = inertia + lin.residual
         if damping is not None:
@@ -163,13 +172,21 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
         if float(np.abs(residual).max()) <= settings.force_tolerance * scale and \
                 abs(volume_error) <= 1e-12 * max(abs(load.volume_target or 1.0), 1e-30):
             return _done(x, v, a, fixed, level, it - 1)
-        matrix = (1.0 - af) * lin.matrix + sp.diags(c_m * mass_diag)
-        if damping is not None:
-            if damping_matrix is None:
-                damping_matrix = Tangent.build(len(x), [damping]).evaluate(v)[2]
-            matrix = matrix + c_c * damping_matrix
+        norm = float(np.abs(residual).max())
+        if lu is None or not settings.reuse_factorisation or norm > CONTRACTION * previous:
+            matrix = (1.0 - af) * linearise(model, xa, level, load).matrix \
+                + sp.diags(c_m * mass_diag)
+            if damping is not None:
+                if damping_matrix is None:
+                    damping_matrix = Tangent.build(len(x), [damping]).evaluate(v)[2]
+                matrix = matrix + c_c * damping_matrix
+            try:
+                lu = Factorisation(matrix)
+            except SingularTangent as error:
+                raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: {error}") \
+                    from error
+        previous = norm
         try:
-            lu = Factorisation(matrix)
             dx_a = lu.solve(-residual)
             if held:
                 # dR/dp0 = -g(x_a); the constraint's gradient is g(x_{n+1})
