@@ -95,8 +95,6 @@ def test_membrane_free_vibration_matches_the_closed_form():
     assert 2 * np.pi / period == pytest.approx(exact, rel=0.01)
 
 
-@pytest.mark.slow  # 10 s: 75 steps of the N = 38 bending tangent; its frequency-domain twin
-# (tests/test_vibration_oracles.py) is in the default suite
 def test_clamped_plate_free_vibration_matches_leissa():
     model, x, omega, mode, centre = _sheet(38, bending=True)
     period, _ = _period(model, x, mode, centre, 2 * np.pi / omega, 60, periods=1.25)

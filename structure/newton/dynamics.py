@@ -95,9 +95,17 @@ class AlphaSettings:
 @dataclass
 class AlphaState(MembraneState):
     """Positions (n, 3) m, velocities (n, 3) m/s and accelerations (n, 3) m/s^2 (None: found
-    from the equations of motion at the first step)."""
+    from the equations of motion at the first step); ``jacobian``: the last step's factorised
+    Jacobian and its step (s), which the next step of the same length starts from (modified
+    Newton across steps; None: none)."""
 
     node_acceleration: Optional[np.ndarray] = None
+    jacobian: Optional[tuple] = None
+
+    def __getstate__(self):
+        """Pickled (a checkpoint) without the factorisation, which SuperLU cannot pickle and
+        the next step rebuilds."""
+        return {**self.__dict__, "jacobian": None}
 
 
 def _damping(model: NewtonModel, coefficient: float):
@@ -150,6 +158,9 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
     damping_matrix = None
     scale = None
     lu, previous = None, None
+    kept = getattr(state, "jacobian", None)
+    if settings.reuse_factorisation and kept is not None and kept[1] == dt:
+        lu, previous = kept[0], np.inf
     for it in range(1, settings.max_iterations + 1):
         a = (x - x0 - dt * v0 - dt * dt * (0.5 - beta) * a0) / (beta * dt * dt)
         v = v0 + dt * ((1.0 - gamma) * a0 + gamma * a)
@@ -171,7 +182,7 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
             volume_error = load.volume_target - liquid_volume(base, x)
         if float(np.abs(residual).max()) <= settings.force_tolerance * scale and \
                 abs(volume_error) <= 1e-12 * max(abs(load.volume_target or 1.0), 1e-30):
-            return _done(x, v, a, fixed, level, it - 1)
+            return _done(x, v, a, fixed, level, it - 1, (lu, dt) if lu is not None else None)
         norm = float(np.abs(residual).max())
         if lu is None or not settings.reuse_factorisation or norm > CONTRACTION * previous:
             matrix = (1.0 - af) * linearise(model, xa, level, load).matrix \
@@ -211,14 +222,15 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
             # the element forces, not a lack of convergence
             a = (x - x0 - dt * v0 - dt * dt * (0.5 - beta) * a0) / (beta * dt * dt)
             v = v0 + dt * ((1.0 - gamma) * a0 + gamma * a)
-            return _done(x, v, a, fixed, level, it)
+            return _done(x, v, a, fixed, level, it, (lu, dt))
     raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: Newton did not converge in "
                            f"{settings.max_iterations} iterations")
 
 
-def _done(x, v, a, fixed, level, iterations):
+def _done(x, v, a, fixed, level, iterations, jacobian=None):
     v = v.copy()
     a = a.copy()
     v[fixed] = 0.0
     a[fixed] = 0.0
-    return AlphaState(x, v, node_acceleration=a), StepInfo(iterations, float(level))
+    return AlphaState(x, v, node_acceleration=a, jacobian=jacobian), \
+        StepInfo(iterations, float(level))
