@@ -154,7 +154,7 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
     held = load.volume_target is not None
     c_m = (1.0 - am) / (beta * dt * dt)
     c_c = gamma * (1.0 - af) / (beta * dt)
-    mass_diag = np.repeat(np.where(fixed, 0.0, base.node_mass), 3)
+    mass_diag = model.dof_mass
     damping_matrix = None
     scale = None
     lu, previous = None, None

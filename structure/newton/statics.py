@@ -157,8 +157,7 @@ def _bordered_step(model, lin: Linearisation, target, scales, shift: float):
     shifted by ``shift`` M (1/s^2 times the lumped masses); None when singular."""
     matrix = lin.matrix
     if shift:
-        mass = np.repeat(np.where(model.free, model.base.node_mass, 0.0), 3)
-        matrix = matrix + sp.diags(shift * mass)
+        matrix = matrix + sp.diags(shift * model.dof_mass)
     try:
         lu = Factorisation(matrix)
         a = lu.solve(-lin.residual)
@@ -263,8 +262,7 @@ def newton_at_level(model: NewtonModel, x: np.ndarray, load: Load,
         for shift in _shifts(model, scales):
             matrix = lin.matrix
             if shift:
-                mass = np.repeat(np.where(model.free, model.base.node_mass, 0.0), 3)
-                matrix = matrix + sp.diags(shift * mass)
+                matrix = matrix + sp.diags(shift * model.dof_mass)
             try:
                 dx = Factorisation(matrix).solve(-lin.residual)
             except SingularTangent:

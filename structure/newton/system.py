@@ -100,6 +100,12 @@ class NewtonModel:
         """(n,) bool: the nodes that move."""
         return ~self.base.node_fixed
 
+    @property
+    def dof_mass(self) -> np.ndarray:
+        """(3n,) kg: each degree of freedom's lumped node mass, zero on the fixed nodes (the
+        diagonal of M in a shifted or dynamic tangent)."""
+        return np.repeat(np.where(self.free, self.base.node_mass, 0.0), 3)
+
     def liquid_volume(self, x: np.ndarray) -> float:
         """V(x) (m^3): the liquid below the membrane."""
         return lower_hemisphere_volume(self.base.radius) + self.volume.evaluate(x, False)[0]
