@@ -10,9 +10,13 @@ from __future__ import annotations
 
 import datetime
 import json
+import os
 import subprocess
 import sys
+import time
 from pathlib import Path
+
+_IMPORTED = time.monotonic()
 
 ROOT = Path(__file__).resolve().parents[1]
 OUTPUT = Path(__file__).resolve().parent / "output"
@@ -50,17 +54,29 @@ def load_average() -> list:
     """The machine's 1, 5 and 15 min load averages at the end of the run (a timing taken
     beside other work reads high), or [] where the system does not say."""
     try:
-        import os
-
         return [round(v, 2) for v in os.getloadavg()]
     except (AttributeError, OSError):
         return []
 
 
+def wall_seconds() -> float:
+    """Seconds since this process started (the whole command's wall time, imports
+    included), read from ``/proc``; else since this module was imported."""
+    try:
+        ticks = os.sysconf("SC_CLK_TCK")
+        with open("/proc/self/stat", encoding="ascii") as stat:
+            started = int(stat.read().rsplit(")", 1)[1].split()[19]) / ticks
+        with open("/proc/uptime", encoding="ascii") as uptime:
+            return round(float(uptime.read().split()[0]) - started, 1)
+    except (OSError, ValueError, IndexError, AttributeError):
+        return round(time.monotonic() - _IMPORTED, 1)
+
+
 def emit(name: str, record: dict, smoke: bool, *, allow_nan: bool = True) -> None:
     """Print ``record`` as one JSON object on one line of stdout; unless ``smoke``, also write
-    it with ``commit``, ``date`` (ISO), the ``command`` that ran it and the
-    ``load_average`` at its end to ``docs/data/<name>.json``.
+    it with ``commit``, ``date`` (ISO), the ``command`` that ran it, its ``command_seconds``
+    (the whole command's, so the docs say how long a rerun takes) and the ``load_average``
+    at its end to ``docs/data/<name>.json``.
 
     ``name`` is the script's name without ``.py``; ``allow_nan`` as :func:`json.dumps`'s.
     """
@@ -68,7 +84,8 @@ def emit(name: str, record: dict, smoke: bool, *, allow_nan: bool = True) -> Non
     if not smoke:
         DOCS_DATA.mkdir(parents=True, exist_ok=True)
         stamped = {**record, "commit": commit(), "date": datetime.date.today().isoformat(),
-                   "command": command(), "load_average": load_average()}
+                   "command": command(), "command_seconds": wall_seconds(),
+                   "load_average": load_average()}
         (DOCS_DATA / f"{name}.json").write_text(
             json.dumps(stamped, indent=1, allow_nan=allow_nan) + "\n")
     sys.stdout.write(text + "\n")

@@ -18,9 +18,11 @@ from __future__ import annotations
 import importlib.util
 import json
 import re
+import sys
 from pathlib import Path
 
 import h5py
+import pytest
 from conftest import module_constant
 
 from fsi.cli import main
@@ -145,9 +147,9 @@ def test_every_dataset_a_run_writes_is_documented_with_its_units(tmp_path, tiny_
     assert not wrong, "\n".join(wrong)
 
 
-DATA_ROLE = re.compile(r"\{data\}`([A-Za-z0-9_.-]+):([^:`.]+)")
+DATA_ROLE = re.compile(r"\{data\}`([A-Za-z0-9_.-]+):([^:`]+)")
 DATA_TABLE = re.compile(r"```\{data-table\} ([A-Za-z0-9_.-]+)\n:rows: ([^\n.]+)")
-STAMPS = ("commit", "date", "command", "load_average")
+STAMPS = ("commit", "date", "command", "command_seconds", "load_average")
 """Fields every docs/data file carries beside its benchmark's record (benchmarks/_report.py)."""
 
 
@@ -169,7 +171,8 @@ def test_every_number_the_documentation_reads_is_a_field_its_benchmark_declares(
         if "_build" in page.parts:
             continue
         text = page.read_text()
-        read |= {(m.group(1), m.group(2).strip(), page.name) for m in DATA_ROLE.finditer(text)}
+        read |= {(m.group(1), path.strip().split(".")[0], page.name)
+                 for m in DATA_ROLE.finditer(text) for path in m.group(2).split("+")}
         read |= {(m.group(1), m.group(2).strip(), page.name) for m in DATA_TABLE.finditer(text)}
     assert read, "the documentation reads no benchmark data"
     declared = {name: tuple(module_constant(benchmark_script(name), "DOC_FIELDS")
@@ -178,3 +181,23 @@ def test_every_number_the_documentation_reads_is_a_field_its_benchmark_declares(
                         if field not in declared[name])
     assert not undeclared, "read by the documentation, not in the benchmark's DOC_FIELDS: " + \
         ", ".join(undeclared)
+
+
+def test_a_duration_sums_seconds_over_every_item_and_path_and_reads_as_a_reader_says_it():
+    sys.path.insert(0, str(DOCS / "_ext"))
+    try:
+        import datatable
+    finally:
+        sys.path.remove(str(DOCS / "_ext"))
+    data = {"cases": [{"wall_seconds": 100.0}, {"wall_seconds": 50.0}],
+            "runs": {"1": {"s": 3.0}, "2": {"s": 4.0}}, "extra": 30.0}
+    assert datatable.lookup(data, "cases.*.wall_seconds", "x") == [100.0, 50.0]
+    assert datatable.lookup(data, "runs.*.s+extra", "x") == [3.0, 4.0, 30.0]
+    assert datatable.render(datatable.lookup(data, "cases.*.wall_seconds+extra", "x"),
+                            "duration") == "3.0 min"
+    assert [datatable.duration(s) for s in (0.24, 40.0, 150.0, 2460.0, 6000.0)] == \
+        ["0.2 s", "40 s", "2.5 min", "41 min", "1.7 h"]
+    with pytest.raises(datatable.DataError):
+        datatable.lookup(data, "cases.*.seconds", "x")
+    with pytest.raises(datatable.DataError):
+        datatable.render("text", "duration")

@@ -23,7 +23,8 @@ where a row has none), FORMAT a Python format spec.
 
 One number in running text (MyST): ``{data}`fluid_step:ratio:.2f``` renders the value at the
 dotted path with the format; the first number a page takes from a file carries a footnote
-naming the measurement.
+naming the measurement.  ``{data}`slosh_energy:cases.*.wall_seconds:duration``` sums
+seconds over every item (``*``) or over several paths (``A+B``) and writes them as "12 min".
 
 A missing file, path or field is a Sphinx error, so ``-W`` stops a page that cites a number
 no benchmark wrote.
@@ -69,9 +70,31 @@ def load(srcdir: str | Path, name: str) -> tuple[dict, Path]:
 
 
 def lookup(value: Any, dotted: str, where: str) -> Any:
-    """``value`` at the dotted path (object keys or list indices); DataError if absent."""
+    """``value`` at the dotted path (object keys or list indices); DataError if absent.
+
+    A ``*`` part stands for every item of a list or every value of an object (the result is
+    the list of what the rest of the path finds in each); ``A+B`` is the list of both paths'
+    values (for the ``duration`` format, which sums them)."""
+    if "+" in dotted:
+        found = []
+        for part in dotted.split("+"):
+            item = lookup(value, part.strip(), where)
+            found.extend(item if isinstance(item, list) else [item])
+        return found
     if dotted in ("", "."):
         return value
+    head, _, rest = dotted.partition(".")
+    if head == "*":
+        if not isinstance(value, (dict, list)) or not value:
+            raise DataError(f"{where}: '*' in path {dotted!r} meets no list or object")
+        items = value.values() if isinstance(value, dict) else value
+        found = []
+        for item in items:
+            item = lookup(item, rest, where)
+            found.extend(item if isinstance(item, list) and "*" in rest else [item])
+        return found
+    if rest and "*" in rest:
+        return lookup(lookup(value, head, where), rest, where)
     for part in dotted.split("."):
         if isinstance(value, dict) and part in value:
             value = value[part]
@@ -83,8 +106,29 @@ def lookup(value: Any, dotted: str, where: str) -> Any:
     return value
 
 
+def duration(seconds: float) -> str:
+    """A wall time as a reader says it: '0.2 s', '40 s', '2.5 min', '41 min', '1.7 h'."""
+    if seconds < 10:
+        return f"{seconds:.1f} s"
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    minutes = seconds / 60
+    if minutes < 10:
+        return f"{minutes:.1f} min"
+    if minutes < 90:
+        return f"{minutes:.0f} min"
+    return f"{minutes / 60:.1f} h"
+
+
 def render(value: Any, spec: str) -> str:
-    """A value as text: the format spec for numbers, '–' for null, yes/no for booleans."""
+    """A value as text: the format spec for numbers, '–' for null, yes/no for booleans;
+    the spec ``duration`` writes seconds (or the sum of a list of them) as :func:`duration`."""
+    if spec == "duration":
+        values = value if isinstance(value, list) else [value]
+        if not values or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                 for v in values):
+            raise DataError(f"duration of {value!r}: expected seconds")
+        return duration(float(sum(values)))
     if value is None:
         return "–"
     if isinstance(value, bool):
