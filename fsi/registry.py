@@ -132,10 +132,11 @@ def solver_failures() -> tuple:
     """Errors of the solvers that end a run (time step, divergence, coupling), as opposed to
     errors in the code."""
     from coupling import CouplingError
+    from structure.newton.dynamics import NewtonDivergence
     from structure.thesis import CourantError
     from structure.xpbd import XpbdDivergence
 
-    return CourantError, XpbdDivergence, CouplingError
+    return CourantError, XpbdDivergence, NewtonDivergence, CouplingError
 
 
 PROCEDURES: dict[str, Procedure] = {}

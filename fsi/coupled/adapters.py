@@ -21,6 +21,7 @@ from fluid.sampling import CELL_WEIGHTS
 from fluid.solver import FluidSolver
 from structure.load import Load
 from structure.model import MembraneState
+from structure.newton.window import alpha_window
 from structure.xpbd import WINDOW_SCHEMES, XpbdDivergence, XpbdModel, XpbdSettings, \
     quasi_static_step
 
@@ -196,6 +197,13 @@ class MembraneSurface:
         return self(state.node_position, state.node_velocity)
 
 
+MEMBRANE_WINDOWS = {**WINDOW_SCHEMES, "generalised-alpha": alpha_window}
+"""The membrane's window schemes, name -> ``f(model, state, load, dt, settings, history)`` ->
+(state, StepInfo): XPBD's (:data:`structure.xpbd.WINDOW_SCHEMES`) and the implicit
+generalised-alpha step on the tangent stiffness (:func:`structure.newton.window.alpha_window`,
+whose settings are :class:`structure.newton.dynamics.AlphaSettings`)."""
+
+
 class MembraneParticipant:
     """An XPBD membrane (:func:`structure.xpbd.step`) seen by the coupling.
 
@@ -236,9 +244,9 @@ class MembraneParticipant:
                  volume: Callable[[float], float], body_acceleration, level: float = 0.0,
                  scheme: str = "substeps", liquid_density: float | None = None,
                  velocity: str = "membrane"):
-        if scheme not in WINDOW_SCHEMES:
+        if scheme not in MEMBRANE_WINDOWS:
             raise ValueError(f"unknown membrane window scheme {scheme!r}; allowed: "
-                             f"{sorted(WINDOW_SCHEMES)}")
+                             f"{sorted(MEMBRANE_WINDOWS)}")
         if velocity not in INTERFACE_VELOCITIES:
             raise ValueError(f"unknown interface velocity {velocity!r}; allowed: "
                              f"{sorted(INTERFACE_VELOCITIES)}")
@@ -311,7 +319,7 @@ class MembraneParticipant:
         if self._inertial(start, time):
             self._inertial_end = time + dt
             scheme = self.scheme if self.scheme != "quasi-static" else "substeps"
-            return WINDOW_SCHEMES[scheme](self.model, start,
+            return MEMBRANE_WINDOWS[scheme](self.model, start,
                                           Load(received, body, volume_target=target), dt,
                                           self.settings, self.history)
         load = Load(self._pressure(received, body), body, volume_target=target,

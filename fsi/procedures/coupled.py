@@ -3,6 +3,8 @@
 of a window, and the port's setup check."""
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from coupling import (ACCELERATIONS, EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES,
@@ -18,10 +20,12 @@ from structure.volume import liquid_volume
 from fsi.coupled.adapters import (CENTRE_CELLS, INTERFACE_VELOCITIES, POINTS, PRESSURE,
                                   FluidParticipant, MembraneSurface)
 from fsi.setup.limits import courant_time_step_limit
-from fsi.setup.models import XPBD_COURANT_FRACTION
+from fsi.setup.models import XPBD_COURANT_FRACTION, hydrostatic_load
 from fsi.coupled.pressure_maps import PRESSURE_MAPS
 from fsi.setup.motion import MOTIONS
 from fsi.registry import Key, SceneError, Table, is_vec3, one_of, positive, short_number
+
+log = logging.getLogger(__name__)
 
 
 def _history(v):
@@ -58,6 +62,10 @@ def _check_motion(motion: dict) -> None:
 def _check_coupling(c: dict) -> None:
     """The keys of a split window, refused away from their default unless
     ``on_max_iterations = "split"``."""
+    if c["rho_inf"] != 1.0 and c["time_scheme"] != "generalised-alpha":
+        raise SceneError(f"scene key 'coupling.rho_inf' = {c['rho_inf']!r} sets the "
+                         f"generalised-alpha step; with coupling.time_scheme = "
+                         f"{c['time_scheme']!r} allowed: 1.0")
     if c["on_max_iterations"] == "split":
         return
     if c["stall_iterations"]:
@@ -143,9 +151,11 @@ PORT = Table({
 """[port]: the bottom port and its stub."""
 
 WINDOW_TIME_SCHEMES = {"euler": ("euler", "substeps"), "bdf2": ("bdf2", "bdf2"),
-                       "quasi-static": ("euler", "quasi-static")}
+                       "quasi-static": ("euler", "quasi-static"),
+                       "generalised-alpha": ("bdf2", "generalised-alpha")}
 """``coupling.time_scheme`` -> (the liquid's :data:`fluid.time_schemes.TIME_SCHEMES` name, the
-membrane's :data:`structure.xpbd.WINDOW_SCHEMES` name): the two halves of one time scheme."""
+membrane's :data:`fsi.coupled.adapters.MEMBRANE_WINDOWS` name): the two halves of one time
+scheme."""
 
 FLUID_CONVECTIONS = {"upwind": True, "none": False}
 """fluid.convection: whether the liquid keeps its convective term (first-order upwind)."""
@@ -244,7 +254,14 @@ COUPLING = Table({
                        "every force at the window's end: second order; "
                        "docs/notes/second-order-window.md) or quasi-static (liquid backward "
                        "Euler, the membrane in equilibrium at each window's end, no inertia: "
-                       "slow fills with long windows; docs/notes/slow-fills.md)"),
+                       "slow fills with long windows; docs/notes/slow-fills.md) or "
+                       "generalised-alpha (liquid BDF2, the membrane one implicit "
+                       "generalised-alpha step by Newton on its tangent stiffness, no Courant "
+                       "limit; docs/models/continuum-membranes.md)"),
+    "rho_inf": Key(float, 1.0, lambda v: 0 <= v <= 1, "0 <= value <= 1",
+                   "time_scheme = generalised-alpha: the membrane step's high-frequency "
+                   "spectral radius (1: no numerical dissipation, the trapezoidal rule; 0: "
+                   "the highest frequencies removed in one step)"),
     "interface_velocity": Key(str, "membrane", *one_of(sorted(INTERFACE_VELOCITIES)),
                               "the node velocities the liquid gets with the window's end "
                               "positions: membrane (the membrane's own at the window's end, "
@@ -344,6 +361,38 @@ def coupling_settings(c: dict) -> CouplingSettings:
         extrapolation_order=c["extrapolation_order"])
 
 
+def window_settings(scene, settings):
+    """The settings a coupled window's membrane step takes: ``settings`` (XPBD's) for the
+    XPBD schemes; for ``coupling.time_scheme = "generalised-alpha"``, the
+    :class:`structure.newton.dynamics.AlphaSettings` of ``coupling.rho_inf`` with the XPBD
+    settings' node damping."""
+    c = scene["coupling"]
+    if WINDOW_TIME_SCHEMES[c["time_scheme"]][1] != "generalised-alpha":
+        return settings
+    from structure.newton.dynamics import AlphaSettings
+
+    return AlphaSettings(rho_inf=c["rho_inf"], node_damping=settings.node_damping)
+
+
+def window_start(setup, scene, model, state, info, volume: float):
+    """The coupled run's static start for its window scheme: as found (state, info) for the
+    XPBD schemes; for generalised-alpha put at rest under the Newton model's energies
+    (:func:`structure.newton.window.settled`, the liquid's hydrostatic field holding
+    ``volume`` m^3), with a warning where that does not converge."""
+    if WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]][1] != "generalised-alpha":
+        return state, info
+    from structure.newton.window import settled
+
+    settled_state, equilibrium = settled(model, state, hydrostatic_load(
+        setup.liquid, volume_target=volume, pressure_level=info.pressure_level))
+    if not equilibrium.converged:
+        log.warning("the start is not at rest under the generalised-alpha membrane (Newton "
+                    "force ratio %.2e): the run starts from a membrane in motion",
+                    equilibrium.force_ratio)
+        return state, info
+    return settled_state, equilibrium
+
+
 def window_substep(setup, window: float, fraction: float) -> float:
     """XPBD substep (s): the ``window`` (s) cut into equal substeps no longer than
     ``fraction`` of the explicit limit of the largest hydrostatic load."""
@@ -371,8 +420,8 @@ def check_node_damping(scene) -> None:
     never takes them (BDF2's one step); under quasi-static windows it acts in the windows done
     with the membrane's inertia (:class:`fsi.coupled.adapters.MembraneParticipant`)."""
     c, damping = scene["coupling"], scene["dynamics"]["node_damping"]
-    if damping > 0 and WINDOW_TIME_SCHEMES[c["time_scheme"]][1] not in ("substeps",
-                                                                       "quasi-static"):
+    if damping > 0 and WINDOW_TIME_SCHEMES[c["time_scheme"]][1] not in (
+            "substeps", "quasi-static", "generalised-alpha"):
         raise SceneError(f"scene key 'dynamics.node_damping' = {damping!r} N s/m damps the "
                          f"membrane's substeps; with coupling.time_scheme = "
                          f"{c['time_scheme']!r} allowed: 0")

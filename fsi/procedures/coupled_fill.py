@@ -47,7 +47,8 @@ from fsi.registry import Procedure, register_procedure
 from fsi.coupled.window_control import END_TOLERANCE, WindowController
 from fsi.procedures.coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES,
                                     check_coupled_fill, coupling_settings, fluid_convection,
-                                    fluid_participant, membrane_surface, window_substep)
+                                    fluid_participant, membrane_surface, window_settings,
+                                    window_start, window_substep)
 
 log = logging.getLogger(__name__)
 
@@ -151,7 +152,7 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     surface = membrane_surface(setup, model, fluid_model)
     fluid = FluidSolver(fluid_model, surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)
-    membrane = MembraneParticipant(model, start, settings,
+    membrane = MembraneParticipant(model, start, window_settings(scene, settings),
                                    lambda t: start_volume + flow.delivered(t), body,
                                    info.pressure_level, membrane_scheme,
                                    liquid_density=liquid.density
@@ -267,6 +268,9 @@ def fresh_start(setup, run: Run, n_windows: int) -> dict:
     model = XpbdModel.from_membrane(setup.model)
     settings = membrane_settings(setup)
     start_state, info = static_start(setup, model, settings)
+    start_state, info = window_start(
+        setup, setup.scene, model, start_state, info,
+        float(FillScale.tank(setup.model.radius).volume(dyn["start_fill"])))
     run.progress(0, f"static start: tank fraction {dyn['start_fill']:.2f}, level "
                     f"{info.pressure_level:.1f} Pa")
     parts = assemble(setup, model, settings, start_state, info)

@@ -52,7 +52,8 @@ from fsi.lifecycle import Run
 from fsi.setup.models import hydrostatic_load, statics_substep
 from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity, check_start_grid,
                                     coupling_settings, fluid_convection, fluid_participant,
-                                    membrane_surface, window_substep)
+                                    membrane_surface, window_settings, window_start,
+                                    window_substep)
 from fsi.procedures.coupled_fill import START_MAX_STEPS, static_equilibrium
 from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
@@ -146,7 +147,8 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     table = scene["slosh"]
     radius = setup.model.radius
     start = static_start(setup, window)
-    xpbd, settings, state, info = start.xpbd, start.settings, start.state, start.info
+    xpbd, settings = start.xpbd, start.settings
+    state, info = window_start(setup, scene, xpbd, start.state, start.info, start.volume)
     run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
                     f"{info.pressure_level:.1f} Pa")
     compliance = start_compliance(setup, start)
@@ -161,7 +163,8 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     surface = membrane_surface(setup, xpbd, model)
     fluid = FluidSolver(model, surface.of(state))
     held = liquid_volume(setup.model, state.node_position)
-    membrane = MembraneParticipant(xpbd, state, settings, lambda t: held, body,
+    membrane = MembraneParticipant(xpbd, state, window_settings(scene, settings),
+                                   lambda t: held, body,
                                    info.pressure_level, membrane_scheme,
                                    velocity=scene["coupling"]["interface_velocity"])
     node_mass = setup.model.node_mass

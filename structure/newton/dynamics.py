@@ -23,7 +23,7 @@ damping's edge Laplacian (:mod:`structure.tangent.inertia`) when ``node_damping`
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Optional
 
 import numpy as np
@@ -97,10 +97,13 @@ class AlphaState(MembraneState):
     """Positions (n, 3) m, velocities (n, 3) m/s and accelerations (n, 3) m/s^2 (None: found
     from the equations of motion at the first step); ``jacobian``: the last step's factorised
     Jacobian and its step (s), which the next step of the same length starts from (modified
-    Newton across steps; None: none)."""
+    Newton across steps; None: none); ``node_load_pressure``: the held node pressure (n,) Pa
+    of the step that ended here, which the next step blends to its alpha level (None: the
+    next step's pressure alone)."""
 
     node_acceleration: Optional[np.ndarray] = None
     jacobian: Optional[tuple] = None
+    node_load_pressure: Optional[np.ndarray] = None
 
     def __getstate__(self):
         """Pickled (a checkpoint) without the factorisation, which SuperLU cannot pickle and
@@ -131,7 +134,9 @@ def initial_acceleration(model: NewtonModel, state: MembraneState, load: Load,
 def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
          settings: AlphaSettings = AlphaSettings()) -> tuple[AlphaState, StepInfo]:
     """One generalised-alpha step of ``dt`` (s) from ``state`` under ``load`` (its node
-    pressure held over the step; with ``load.volume_target`` the volume reaches it at the
+    pressure, a field of the positions or an array (n,) Pa: the step's end value, taken at
+    the alpha level (1 - af) p_n+1 + af p_n where ``state`` carries the last step's
+    ``node_load_pressure`` p_n; with ``load.volume_target`` the volume reaches it at the
     step's end and the level is its multiplier, started at ``load.pressure_level``; without,
     the level ``load.pressure_level`` is held). Returns (:class:`AlphaState` at t + dt,
     :class:`structure.load.StepInfo` with the Newton iterations and the level). Raises
@@ -152,6 +157,11 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
     # predictor: the step's end at constant acceleration (a_{n+1} = a_n)
     x = x0 + dt * v0 + dt * dt * 0.5 * a0
     held = load.volume_target is not None
+    end_pressure = None if callable(load.node_pressure) else \
+        np.asarray(load.node_pressure, dtype=float)
+    last_pressure = getattr(state, "node_load_pressure", None)
+    if end_pressure is not None and last_pressure is not None and af:
+        load = replace(load, node_pressure=(1.0 - af) * end_pressure + af * last_pressure)
     c_m = (1.0 - am) / (beta * dt * dt)
     c_c = gamma * (1.0 - af) / (beta * dt)
     mass_diag = model.dof_mass
@@ -167,7 +177,11 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
         xa = (1.0 - af) * x + af * x0
         va = (1.0 - af) * v + af * v0
         aa = (1.0 - am) * a + am * a0
-        lin = linearise(model, xa, level, load, hessian=False)
+        try:
+            lin = linearise(model, xa, level, load, hessian=False)
+        except (ZeroDivisionError, FloatingPointError) as error:  # a degenerate iterate
+            raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: the iterate "
+                                   f"degenerates ({error})") from error
         inertia = mass * aa
         residual = inertia + lin.residual
         if damping is not None:
@@ -182,11 +196,16 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
             volume_error = load.volume_target - liquid_volume(base, x)
         if float(np.abs(residual).max()) <= settings.force_tolerance * scale and \
                 abs(volume_error) <= 1e-12 * max(abs(load.volume_target or 1.0), 1e-30):
-            return _done(x, v, a, fixed, level, it - 1, (lu, dt) if lu is not None else None)
+            return _done(x, v, a, fixed, level, it - 1, (lu, dt) if lu is not None else None,
+                         end_pressure)
         norm = float(np.abs(residual).max())
         if lu is None or not settings.reuse_factorisation or norm > CONTRACTION * previous:
-            matrix = (1.0 - af) * linearise(model, xa, level, load).matrix \
-                + sp.diags(c_m * mass_diag)
+            try:
+                stiffness = linearise(model, xa, level, load).matrix
+            except (ZeroDivisionError, FloatingPointError) as error:
+                raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: the iterate "
+                                       f"degenerates ({error})") from error
+            matrix = (1.0 - af) * stiffness + sp.diags(c_m * mass_diag)
             if damping is not None:
                 if damping_matrix is None:
                     damping_matrix = Tangent.build(len(x), [damping]).evaluate(v)[2]
@@ -222,15 +241,16 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
             # the element forces, not a lack of convergence
             a = (x - x0 - dt * v0 - dt * dt * (0.5 - beta) * a0) / (beta * dt * dt)
             v = v0 + dt * ((1.0 - gamma) * a0 + gamma * a)
-            return _done(x, v, a, fixed, level, it, (lu, dt))
+            return _done(x, v, a, fixed, level, it, (lu, dt), end_pressure)
     raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: Newton did not converge in "
                            f"{settings.max_iterations} iterations")
 
 
-def _done(x, v, a, fixed, level, iterations, jacobian=None):
+def _done(x, v, a, fixed, level, iterations, jacobian=None, pressure=None):
     v = v.copy()
     a = a.copy()
     v[fixed] = 0.0
     a[fixed] = 0.0
-    return AlphaState(x, v, node_acceleration=a, jacobian=jacobian), \
+    return AlphaState(x, v, node_acceleration=a, jacobian=jacobian,
+                      node_load_pressure=None if pressure is None else pressure.copy()), \
         StepInfo(iterations, float(level))

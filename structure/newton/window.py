@@ -1,0 +1,95 @@
+"""A coupled window of the XPBD membrane's energies taken by the implicit generalised-alpha
+step (:mod:`structure.newton.dynamics`): one Newton-solved step per window, no Courant limit.
+
+:func:`alpha_window` has the signature of :data:`structure.xpbd.WINDOW_SCHEMES`, so the
+coupling's membrane participant runs it as it runs the XPBD schemes. The membrane is the
+XPBD model's (the plane-stress blocks, the calibrated bending, the wall as a penalty:
+:meth:`structure.newton.system.NewtonModel.from_xpbd`), its load the coupled liquid's node
+pressure held over the window (follower form), its volume held at the window's end with the
+level as the multiplier. A window whose Newton iteration does not converge is taken as two halves (the
+volume moving linearly between them), down to :data:`MAX_HALVINGS` times; past that it raises
+:class:`structure.newton.dynamics.NewtonDivergence`.
+"""
+from __future__ import annotations
+
+import weakref
+from dataclasses import replace
+
+from ..load import Load, StepInfo
+from ..model import MembraneState
+from .dynamics import AlphaSettings, AlphaState, NewtonDivergence, step
+from .system import NewtonModel
+
+MAX_HALVINGS = 4
+"""A window is cut in halves at most this many times (into 16 steps) before it fails (-)."""
+
+_MODELS: dict[int, tuple] = {}
+"""id(XPBD model) -> (weak reference to it, its :class:`NewtonModel`): the tangent's
+pattern is built once per membrane, not once per window."""
+
+
+def newton_model(model) -> NewtonModel:
+    """The :class:`NewtonModel` of an XPBD model (or the model itself when it is one),
+    built once per model object and kept while the model lives."""
+    if isinstance(model, NewtonModel):
+        return model
+    key = id(model)
+    kept = _MODELS.get(key)
+    if kept is not None and kept[0]() is model:
+        return kept[1]
+    built = NewtonModel.from_xpbd(model, bending=True, load_form="follower")
+    _MODELS[key] = (weakref.ref(model, lambda _ref, key=key: _MODELS.pop(key, None)), built)
+    return built
+
+
+def alpha_settings(settings) -> AlphaSettings:
+    """``settings`` as they are when they are :class:`AlphaSettings`; from XPBD settings,
+    the defaults with their node damping."""
+    if isinstance(settings, AlphaSettings):
+        return settings
+    return AlphaSettings(node_damping=float(getattr(settings, "node_damping", 0.0)))
+
+
+def alpha_window(model, state: MembraneState, load: Load, dt: float, settings,
+                 history=None) -> tuple[AlphaState, StepInfo]:
+    """The window of ``dt`` (s) from ``state`` under ``load`` by generalised-alpha steps
+    (module doc); ``history`` is not used (the method is one-step). Returns the state at the
+    window's end and a :class:`structure.load.StepInfo` with the Newton iterations of all
+    its steps and the level (Pa)."""
+    if not dt > 0:
+        raise ValueError(f"window duration must be > 0 s, got {dt!r}")
+    return _steps(newton_model(model), state, load, dt, alpha_settings(settings), 1)
+
+
+def _steps(model: NewtonModel, state, load: Load, dt: float, settings: AlphaSettings,
+           parts: int):
+    held = load.volume_target is not None
+    start_volume = model.liquid_volume(state.node_position) if held and parts > 1 else None
+    try:
+        current, iterations = state, 0
+        for k in range(1, parts + 1):
+            part = load
+            if start_volume is not None:  # the volume moves linearly over the window
+                part = replace(load, volume_target=start_volume + (
+                    load.volume_target - start_volume) * k / parts)
+            current, info = step(model, current, part, dt / parts, settings)
+            iterations += info.substeps
+            load = replace(load, pressure_level=info.pressure_level)
+        return current, StepInfo(iterations, info.pressure_level)
+    except NewtonDivergence:
+        if parts >= 2 ** MAX_HALVINGS:
+            raise
+        return _steps(model, state, load, dt, settings, 2 * parts)
+
+
+def settled(model, state: MembraneState, load: Load):
+    """The equilibrium of the Newton model of ``model`` under ``load`` (its volume target held)
+    from ``state``: a start found by another solver (XPBD's relaxation, whose bias leaves
+    residual forces under these energies) put at rest for :func:`alpha_window`, so that the
+    first window does not start with a jolt. Returns (:class:`MembraneState`,
+    :class:`structure.load.Equilibrium`); not converged is the Equilibrium's to say."""
+    from .statics import solve_equilibrium
+
+    settled_state, equilibrium, _ = solve_equilibrium(
+        newton_model(model), MembraneState(state.node_position.copy()), load)
+    return settled_state, equilibrium
