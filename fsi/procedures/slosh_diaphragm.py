@@ -31,6 +31,7 @@ the start, - sum m b(t_0) . (x - x_0), J.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
@@ -41,6 +42,7 @@ from fluid.model import FluidModel
 from fluid.solver import FluidSolver
 from fluid.tank import tank_grid
 from structure.hyperelastic import svk_energy_and_gradient
+from structure.newton.window import settled
 from structure.volume import liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
 
@@ -121,7 +123,9 @@ class StaticStart:
 
 def static_start(setup, window: float) -> StaticStart:
     """The membrane's static equilibrium holding the tank fraction ``slosh.fill`` (module
-    doc), at rest under the XPBD substeps of ``window`` (s)."""
+    doc), at rest under the XPBD substeps of ``window`` (s); for the generalised-alpha
+    window, the statics' equilibrium alone (settled afterwards under the Newton model's
+    energies, :func:`fsi.procedures.coupled.window_start`)."""
     table = setup.scene["slosh"]
     xpbd = XpbdModel.from_membrane(setup.model)
     settings = XpbdSettings(dt=window_substep(setup, window, table["substep_fraction"]),
@@ -132,11 +136,14 @@ def static_start(setup, window: float) -> StaticStart:
     # substep, then settled at the windows' (same sweeps) so that it is at rest under them
     statics = replace(settings, dt=statics_substep(setup))
     if carries(setup, table["start_grid"]):
-        state, _ = carried_start(setup, table["start_grid"], volume,
-                                 lambda coarse: static_start(coarse, window).as_pair(),
-                                 xpbd_settle(setup, xpbd, statics, volume))
+        state, info = carried_start(setup, table["start_grid"], volume,
+                                    lambda coarse: static_start(coarse, window).as_pair(),
+                                    xpbd_settle(setup, xpbd, statics, volume))
     else:
-        state, _ = static_equilibrium(setup, xpbd, statics, volume)
+        state, info = static_equilibrium(setup, xpbd, statics, volume)
+    if WINDOW_TIME_SCHEMES[setup.scene["coupling"]["time_scheme"]][1] == "generalised-alpha":
+        # the implicit window's start is settled under its own energies (window_start)
+        return StaticStart(xpbd, settings, volume, state, info)
     state, info = static_equilibrium(setup, xpbd, settings, volume, state)
     return StaticStart(xpbd, settings, volume, state, info)
 
@@ -151,7 +158,11 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     state, info = window_start(setup, scene, xpbd, start.state, start.info, start.volume)
     run.progress(0, f"static start: tank fraction {table['fill']:.3f}, level "
                     f"{info.pressure_level:.1f} Pa")
-    compliance = start_compliance(setup, start)
+    solve = None
+    if state is not start.state:  # settled for the generalised-alpha window: its own statics
+        start = replace(start, state=state, info=info)
+        solve = partial(settled, xpbd)
+    compliance = start_compliance(setup, start, solve=solve)
     liquid_scheme, membrane_scheme = WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]]
     grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
     model = FluidModel(grid=grid, container=SphericalTank(radius),
