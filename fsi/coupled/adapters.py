@@ -319,8 +319,10 @@ class MembraneParticipant:
         if self._inertial(start, time):
             self._inertial_end = time + dt
             scheme = self.scheme if self.scheme != "quasi-static" else "substeps"
+            # the level held at the last window's end: the guess (XPBD's steps find their own)
             return MEMBRANE_WINDOWS[scheme](self.model, start,
-                                          Load(received, body, volume_target=target), dt,
+                                          Load(received, body, volume_target=target,
+                                               pressure_level=self.level), dt,
                                           self.settings, self.history)
         load = Load(self._pressure(received, body), body, volume_target=target,
                     pressure_level=self.level)

@@ -57,7 +57,8 @@ class AlphaSettings:
 
     * rho_inf : the high-frequency spectral radius in [0, 1] (1: no numerical dissipation);
     * force_tolerance : a step's Newton converges when the largest free-node residual force is
-      below this fraction of the largest inertial or load force of the step (-);
+      below this fraction of the largest inertial, residual or load force of the step (the
+      load: the pressure on a node's area and its weight) (-);
     * max_iterations : Newton iterations per step;
     * node_damping : c (N s/m) of the relative node damping (0: none);
     * reuse_factorisation : modified Newton: keep the step's factorised Jacobian while each
@@ -120,13 +121,25 @@ def _damping(model: NewtonModel, coefficient: float):
 
 def initial_acceleration(model: NewtonModel, state: MembraneState, load: Load,
                          level: float, damping=None) -> np.ndarray:
-    """a_0 = -M^-1 (r(x_0, p0) + C v_0) on the free nodes, zero on the fixed ones."""
+    """a_0 = -M^-1 (r(x_0, p0) + C v_0) on the free nodes, zero on the fixed ones; where the
+    load holds a volume, with the level p0 that keeps it, dV/dx . a_0 = 0 (the level given
+    is only a guess: a wrong one would accelerate the whole sheet through the tank)."""
     x = np.asarray(state.node_position, dtype=float)
     v = np.asarray(state.node_velocity, dtype=float)
-    force = linearise(model, x, level, load, hessian=False).residual
+    lin = linearise(model, x, level, load, hessian=False)
+    force = lin.residual
     if damping is not None:
         force = force + damping.evaluate(v, False)[1]
-    a = -force / model.base.node_mass[:, None]
+    inverse_mass = np.zeros(len(x))
+    free = ~model.base.node_fixed
+    inverse_mass[free] = 1.0 / model.base.node_mass[free]
+    a = -force * inverse_mass[:, None]
+    if load.volume_target is not None:
+        # r(p) = r(p0) - (p - p0) g: the level's shift that makes g . a vanish
+        g = lin.volume_gradient
+        gmg = float(np.sum(g * g * inverse_mass[:, None]))
+        if gmg > 0:
+            a = a + g * inverse_mass[:, None] * (-float(np.sum(g * a)) / gmg)
     a[model.base.node_fixed] = 0.0
     return a
 
@@ -190,7 +203,8 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
         if scale is None:
             scale = max(float(np.abs(inertia[~fixed]).max(initial=0.0)),
                         float(np.abs(lin.residual[~fixed] + inertia[~fixed]).max(initial=0.0)),
-                        float(np.abs(lin.residual[~fixed]).max(initial=0.0)), 1e-30)
+                        float(np.abs(lin.residual[~fixed]).max(initial=0.0)),
+                        _load_scale(model, load, xa, level), 1e-30)
         volume_error = 0.0
         if held:
             volume_error = load.volume_target - liquid_volume(base, x)
@@ -244,6 +258,20 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
             return _done(x, v, a, fixed, level, it, (lu, dt), end_pressure)
     raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: Newton did not converge in "
                            f"{settings.max_iterations} iterations")
+
+
+def _load_scale(model: NewtonModel, load: Load, x: np.ndarray, level: float) -> float:
+    """The largest free-node load (N): the pressure's |p + p0| |dV/dx_i| and the weight
+    m_i |b|. A step that starts in equilibrium (a slow fill's window) has no residual or
+    inertia to measure its tolerance against; the load it carries is the force scale."""
+    base = model.base
+    free = ~base.node_fixed
+    body = float(np.linalg.norm(np.asarray(load.body_acceleration, dtype=float)))
+    weight = float(base.node_mass[free].max(initial=0.0)) * body
+    gradient = liquid_volume_gradient(base, x)[free]
+    pressure = np.asarray(load.pressure(x), dtype=float)[free] + level
+    return max(weight, float(np.max(np.abs(pressure) * np.linalg.norm(gradient, axis=1),
+                                    initial=0.0)))
 
 
 def _done(x, v, a, fixed, level, iterations, jacobian=None, pressure=None):

@@ -6,8 +6,10 @@ coupling's membrane participant runs it as it runs the XPBD schemes. The membran
 XPBD model's (the plane-stress blocks, the calibrated bending, the wall as a penalty:
 :meth:`structure.newton.system.NewtonModel.from_xpbd`), its load the coupled liquid's node
 pressure held over the window (follower form), its volume held at the window's end with the
-level as the multiplier. A window whose Newton iteration does not converge is taken as two halves (the
-volume moving linearly between them), down to :data:`MAX_HALVINGS` times; past that it raises
+level as the multiplier. Where a step's Newton iteration does not converge the step is halved (a snap is
+passed with the sheet's inertia, which only a step near the snap's own time scale feels),
+down to :data:`MAX_HALVINGS` times, and doubled again after each success; the volume moves
+linearly across the window. Past the smallest step it raises
 :class:`structure.newton.dynamics.NewtonDivergence`.
 """
 from __future__ import annotations
@@ -20,8 +22,9 @@ from ..model import MembraneState
 from .dynamics import AlphaSettings, AlphaState, NewtonDivergence, step
 from .system import NewtonModel
 
-MAX_HALVINGS = 4
-"""A window is cut in halves at most this many times (into 16 steps) before it fails (-)."""
+MAX_HALVINGS = 12
+"""A window's step is halved at most this many times (to 1/4096 of the window: 0.5 ms of a
+2 s window, the time scale of a fold's snap) before the window fails (-)."""
 
 _MODELS: dict[int, tuple] = {}
 """id(XPBD model) -> (weak reference to it, its :class:`NewtonModel`): the tangent's
@@ -58,28 +61,36 @@ def alpha_window(model, state: MembraneState, load: Load, dt: float, settings,
     its steps and the level (Pa)."""
     if not dt > 0:
         raise ValueError(f"window duration must be > 0 s, got {dt!r}")
-    return _steps(newton_model(model), state, load, dt, alpha_settings(settings), 1)
+    return _steps(newton_model(model), state, load, dt, alpha_settings(settings))
 
 
-def _steps(model: NewtonModel, state, load: Load, dt: float, settings: AlphaSettings,
-           parts: int):
+def _steps(model: NewtonModel, state, load: Load, dt: float, settings: AlphaSettings):
+    """The window by steps that halve where Newton fails and double again after a success
+    (never past the window's end, never below dt / 2^MAX_HALVINGS), the volume target moving
+    linearly in time across the window."""
     held = load.volume_target is not None
-    start_volume = model.liquid_volume(state.node_position) if held and parts > 1 else None
-    try:
-        current, iterations = state, 0
-        for k in range(1, parts + 1):
-            part = load
-            if start_volume is not None:  # the volume moves linearly over the window
-                part = replace(load, volume_target=start_volume + (
-                    load.volume_target - start_volume) * k / parts)
-            current, info = step(model, current, part, dt / parts, settings)
-            iterations += info.substeps
-            load = replace(load, pressure_level=info.pressure_level)
-        return current, StepInfo(iterations, info.pressure_level)
-    except NewtonDivergence:
-        if parts >= 2 ** MAX_HALVINGS:
-            raise
-        return _steps(model, state, load, dt, settings, 2 * parts)
+    start_volume = model.liquid_volume(state.node_position) if held else None
+    smallest = dt / 2 ** MAX_HALVINGS
+    current, iterations, done, size = state, 0, 0.0, dt
+    level = load.pressure_level
+    while done < dt * (1.0 - 1e-12):
+        size = min(size, dt - done)
+        part = replace(load, pressure_level=level)
+        if held:
+            part = replace(part, volume_target=start_volume + (
+                load.volume_target - start_volume) * (done + size) / dt)
+        try:
+            current, info = step(model, current, part, size, settings)
+        except NewtonDivergence:
+            if size <= smallest * (1.0 + 1e-9):
+                raise
+            size = max(0.5 * size, smallest)
+            continue
+        iterations += info.substeps
+        level = info.pressure_level
+        done += size
+        size *= 2.0
+    return current, StepInfo(iterations, level)
 
 
 def settled(model, state: MembraneState, load: Load):
