@@ -3,7 +3,8 @@ XPBD window (BDF2, converged sweeps) against the implicit generalised-alpha wind
 the tangent stiffness): wall time, the first mode and the windows left unconverged.
 
     python benchmarks/implicit_window.py [--grids 14 26 38] [--schemes bdf2 generalised-alpha]
-                                         [--end-time 1.5] [--budget 2400] [--smoke]
+                                         [--end-time 1.5] [--budget 2400] [--merge]
+                                         [--smoke]
 
 Each case is the bundled scene with ``membrane.grid_size`` N and ``coupling.time_scheme``
 set, run as ``fsi run`` runs it (static start, lateral compliance, 1 ms windows on 16^3
@@ -15,26 +16,28 @@ grid it records ``grid_size``, ``nodes``, ``seconds`` (the whole run), ``start_s
 (mean per window) and ``windows_unconverged``. Goals (issue's, the generalised-alpha
 window): N = 38 in 8 min or less, N = 76 in 30 min. Writes
 ``benchmarks/output/implicit_window.png`` (seconds against N, the schemes side by side) and
-prints one JSON object (a full run also writes it to ``docs/data/implicit_window.json``).
-``--smoke``: :data:`SMOKE`.
+prints one JSON object (a full run also writes it to ``docs/data/implicit_window.json``;
+``--merge`` keeps that file's other schemes, so that the schemes can run as two processes
+one after the other). ``--smoke``: :data:`SMOKE`.
 """
 from __future__ import annotations
 
 import argparse
+import json
 import logging
 import sys
 import time
 
 import numpy as np
 
-from _report import SMOKE_HELP, emit, output_dir
+from _report import DOCS_DATA, SMOKE_HELP, emit, output_dir
 from fsi.registry import PROCEDURES
 from fsi.scene import load_scene
 from fsi.setup.build import build
 
 FIGURE_NAME = "implicit_window.png"
 #: the JSON's top-level keys the documentation reads
-DOC_FIELDS = ("end_time", "schemes", "goals_seconds")
+DOC_FIELDS = ("end_time", "schemes", "goals_seconds", "ratios")
 GOALS_SECONDS = {"38": 480.0, "76": 1800.0}
 """The generalised-alpha window's goals: seconds of the whole run at N."""
 SCENE = "slosh-diaphragm"
@@ -72,6 +75,23 @@ def run_case(grid_size: int, scheme: str, end_time: float, cells: int | None) ->
                 failure=str(a.get("failure") or ""))
 
 
+def ratios(schemes: dict) -> dict:
+    """Per grid run by both schemes, the generalised-alpha window against the XPBD one:
+    ``seconds`` and ``seconds_per_window`` (ratios, -) and ``lambda1_difference`` (relative)."""
+    out = {}
+    bdf2 = {e["grid_size"]: e for e in schemes.get("bdf2", [])}
+    for e in schemes.get("generalised-alpha", []):
+        peer = bdf2.get(e["grid_size"])
+        if peer is None:
+            continue
+        out[str(e["grid_size"])] = dict(
+            seconds=e["seconds"] / peer["seconds"],
+            seconds_per_window=e["seconds_per_window"] / peer["seconds_per_window"],
+            lambda1_difference=None if not (e["lambda1"] and peer["lambda1"]) else
+            e["lambda1"] / peer["lambda1"] - 1.0)
+    return out
+
+
 def plot(schemes: dict, figure) -> None:
     import matplotlib
 
@@ -101,6 +121,8 @@ def main(argv=None) -> dict:
     parser.add_argument("--end-time", type=float, default=1.5, help="simulated seconds")
     parser.add_argument("--budget", type=float, default=2400.0,
                         help="seconds; a scheme stops at the first grid that takes longer")
+    parser.add_argument("--merge", action="store_true",
+                        help="keep the other schemes of docs/data/implicit_window.json")
     parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
     cells = None
@@ -112,6 +134,10 @@ def main(argv=None) -> dict:
     logging.getLogger("fsi").setLevel(logging.ERROR)
     logging.getLogger("coupling").setLevel(logging.ERROR)
     schemes = {}
+    if args.merge and not args.smoke and (DOCS_DATA / "implicit_window.json").is_file():
+        kept = json.loads((DOCS_DATA / "implicit_window.json").read_text())
+        if kept.get("end_time") == args.end_time:
+            schemes = {k: v for k, v in kept["schemes"].items() if k not in args.schemes}
     for name in args.schemes:
         schemes[name] = []
         for n in sorted(args.grids):
@@ -126,7 +152,7 @@ def main(argv=None) -> dict:
     figure = output_dir(args.smoke) / FIGURE_NAME
     plot(schemes, figure)
     out = dict(end_time=args.end_time, schemes=schemes, goals_seconds=GOALS_SECONDS,
-               figure=str(figure))
+               ratios=ratios(schemes), figure=str(figure))
     emit("implicit_window", out, args.smoke)
     return out
 
