@@ -201,3 +201,16 @@ def test_a_duration_sums_seconds_over_every_item_and_path_and_reads_as_a_reader_
         datatable.lookup(data, "cases.*.seconds", "x")
     with pytest.raises(datatable.DataError):
         datatable.render("text", "duration")
+
+
+def test_no_page_holds_control_characters():
+    """A control character in a page (an escape gone wrong in an edit: BEL for \\a in
+    \\alpha) renders as text and does not fail the build; none is allowed."""
+    bad = []
+    for page in DOCS.rglob("*.md"):
+        if "_build" in page.parts:
+            continue
+        for number, line in enumerate(page.read_text().splitlines(), 1):
+            if re.search(r"[\x00-\x08\x0b-\x1f\x7f]", line):
+                bad.append(f"{page.relative_to(DOCS)}:{number}")
+    assert not bad, "control characters in: " + ", ".join(bad)
