@@ -92,6 +92,31 @@ def emit(name: str, record: dict, smoke: bool, *, allow_nan: bool = True) -> Non
     sys.stdout.flush()
 
 
+def seconds_by_grid(series: dict, figure: Path, ylabel: str, title: str, extra=None) -> None:
+    """Write ``figure``: seconds against membrane grid N on log axes, one line per entry of
+    ``series`` (name -> entries with ``grid_size`` and ``seconds``); ``extra(ax)`` draws
+    more (markers of goals or failures) before the axes are labelled."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for name, entries in series.items():
+        ax.loglog([e["grid_size"] for e in entries], [e["seconds"] for e in entries], "o-",
+                  label=name)
+    if extra is not None:
+        extra(ax)
+    ax.set_xlabel("membrane grid N (N x N nodes)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    figure.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(figure, dpi=100, bbox_inches="tight")
+    plt.close(fig)
+
+
 def profile(function, *args, top: int = 8, **kwargs):
     """Run ``function(*args, **kwargs)`` under :mod:`cProfile`; return its result and the
     ``top`` functions by own time, each ``{"function": "file:line(name)", "seconds": own

@@ -30,7 +30,7 @@ import time
 
 import numpy as np
 
-from _report import DOCS_DATA, SMOKE_HELP, emit, output_dir
+from _report import DOCS_DATA, SMOKE_HELP, emit, output_dir, seconds_by_grid
 from fsi.registry import PROCEDURES
 from fsi.scene import load_scene
 from fsi.setup.build import build
@@ -93,25 +93,12 @@ def ratios(schemes: dict) -> dict:
 
 
 def plot(schemes: dict, figure) -> None:
-    import matplotlib
+    def goals(ax):
+        for n, goal in GOALS_SECONDS.items():
+            ax.plot(int(n), goal, "k*", ms=10)
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
-    for name, entries in schemes.items():
-        ax.loglog([e["grid_size"] for e in entries], [e["seconds"] for e in entries], "o-",
-                  label=name)
-    for n, goal in GOALS_SECONDS.items():
-        ax.plot(int(n), goal, "k*", ms=10)
-    ax.set_xlabel("membrane grid N (N x N nodes)")
-    ax.set_ylabel("seconds for the run")
-    ax.set_title("slosh-diaphragm by window scheme (stars: goals)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    figure.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(figure, dpi=100, bbox_inches="tight")
-    plt.close(fig)
+    seconds_by_grid(schemes, figure, "seconds for the run",
+                    "slosh-diaphragm by window scheme (stars: goals)", goals)
 
 
 def main(argv=None) -> dict:

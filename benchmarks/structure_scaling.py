@@ -35,7 +35,7 @@ import time
 
 import numpy as np
 
-from _report import SMOKE_HELP, emit, output_dir
+from _report import SMOKE_HELP, emit, output_dir, seconds_by_grid
 from fsi.scene import load_scene
 from fsi.setup.build import build
 from fsi.setup.models import STRUCTURE_MODELS, hydrostatic_load
@@ -101,26 +101,14 @@ def exponent(entries: list) -> float | None:
 
 
 def plot(solvers: dict, figure) -> None:
-    import matplotlib
+    def unconverged(ax):
+        for entries in solvers.values():
+            for e in entries:
+                if not e["converged"]:
+                    ax.plot(e["grid_size"], e["seconds"], "o", mfc="white", mec="k")
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
-    for name, entries in solvers.items():
-        n = [e["grid_size"] for e in entries]
-        ax.loglog(n, [e["seconds"] for e in entries], "o-", label=name)
-        for e in entries:
-            if not e["converged"]:
-                ax.plot(e["grid_size"], e["seconds"], "o", mfc="white", mec="k")
-    ax.set_xlabel("membrane grid N (N x N nodes)")
-    ax.set_ylabel("seconds to the equilibrium")
-    ax.set_title("Static equilibrium from the rest shape (open: not converged)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    figure.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(figure, dpi=100, bbox_inches="tight")
-    plt.close(fig)
+    seconds_by_grid(solvers, figure, "seconds to the equilibrium",
+                    "Static equilibrium from the rest shape (open: not converged)", unconverged)
 
 
 def main(argv=None) -> dict:
