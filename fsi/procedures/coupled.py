@@ -15,6 +15,7 @@ from fluid.model import FACE_MEMORIES
 from fluid.sampling import CELL_WEIGHTS, FIT_KERNELS
 from fluid.solver import FluidSolver
 from fluid.tank import port_stub_volume, tank_spacing
+from structure.newton.window import RHO_INF as WINDOW_RHO_INF
 from structure.volume import liquid_volume
 
 from fsi.coupled.adapters import (CENTRE_CELLS, INTERFACE_VELOCITIES, POINTS, PRESSURE,
@@ -62,10 +63,10 @@ def _check_motion(motion: dict) -> None:
 def _check_coupling(c: dict) -> None:
     """The keys of a split window, refused away from their default unless
     ``on_max_iterations = "split"``."""
-    if c["rho_inf"] != 0.0 and c["time_scheme"] != "generalised-alpha":
+    if c["rho_inf"] != WINDOW_RHO_INF and c["time_scheme"] != "generalised-alpha":
         raise SceneError(f"scene key 'coupling.rho_inf' = {c['rho_inf']!r} sets the "
                          f"generalised-alpha step; with coupling.time_scheme = "
-                         f"{c['time_scheme']!r} allowed: 0.0")
+                         f"{c['time_scheme']!r} allowed: {WINDOW_RHO_INF!r}")
     if c["on_max_iterations"] == "split":
         return
     if c["stall_iterations"]:
@@ -258,7 +259,7 @@ COUPLING = Table({
                        "generalised-alpha (liquid BDF2, the membrane one implicit "
                        "generalised-alpha step by Newton on its tangent stiffness, no Courant "
                        "limit; docs/models/continuum-membranes.md)"),
-    "rho_inf": Key(float, 0.0, lambda v: 0 <= v <= 1, "0 <= value <= 1",
+    "rho_inf": Key(float, WINDOW_RHO_INF, lambda v: 0 <= v <= 1, "0 <= value <= 1",
                    "time_scheme = generalised-alpha: the membrane step's high-frequency "
                    "spectral radius (1: no numerical dissipation, the trapezoidal rule; 0: "
                    "the highest frequencies removed in one step, what a sheet whose folds "

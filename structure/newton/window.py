@@ -6,10 +6,10 @@ coupling's membrane participant runs it as it runs the XPBD schemes. The membran
 XPBD model's (the plane-stress blocks, the calibrated bending, the wall as a penalty:
 :meth:`structure.newton.system.NewtonModel.from_xpbd`), its load the coupled liquid's node
 pressure held over the window (follower form), its volume held at the window's end with the
-level as the multiplier. Where a step's Newton iteration does not converge the step is halved (a snap is
-passed with the sheet's inertia, which only a step near the snap's own time scale feels),
-down to :data:`MAX_HALVINGS` times, and doubled again after each success; the volume moves
-linearly across the window. Past the smallest step it raises
+level as the multiplier. Where a step's Newton iteration does not converge the step is
+halved (a snap is passed with the sheet's inertia, which only a step near the snap's own time
+scale feels), down to :data:`MAX_HALVINGS` times, and doubled again after each success; the
+volume moves linearly across the window. Past the smallest step it raises
 :class:`structure.newton.dynamics.NewtonDivergence`.
 """
 from __future__ import annotations
@@ -21,6 +21,11 @@ from ..load import Load, StepInfo
 from ..model import MembraneState
 from .dynamics import AlphaSettings, AlphaState, NewtonDivergence, step
 from .system import NewtonModel
+
+RHO_INF = 0.0
+"""The window's high-frequency spectral radius unless set (``coupling.rho_inf``): 0, every
+force at the step's end as the BDF2 liquid has them, and a snapping fold's ringing removed
+(the trapezoidal rule, 1, let the coupling diverge at N = 26; docs/notes/newton-statics.md)."""
 
 MAX_HALVINGS = 12
 """A window's step is halved at most this many times (to 1/4096 of the window: 0.5 ms of a
@@ -47,10 +52,11 @@ def newton_model(model) -> NewtonModel:
 
 def alpha_settings(settings) -> AlphaSettings:
     """``settings`` as they are when they are :class:`AlphaSettings`; from XPBD settings,
-    the defaults with their node damping."""
+    :data:`RHO_INF` and their node damping."""
     if isinstance(settings, AlphaSettings):
         return settings
-    return AlphaSettings(node_damping=float(getattr(settings, "node_damping", 0.0)))
+    return AlphaSettings(rho_inf=RHO_INF,
+                         node_damping=float(getattr(settings, "node_damping", 0.0)))
 
 
 def alpha_window(model, state: MembraneState, load: Load, dt: float, settings,
