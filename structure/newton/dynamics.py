@@ -190,11 +190,7 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
         xa = (1.0 - af) * x + af * x0
         va = (1.0 - af) * v + af * v0
         aa = (1.0 - am) * a + am * a0
-        try:
-            lin = linearise(model, xa, level, load, hessian=False)
-        except (ZeroDivisionError, FloatingPointError) as error:  # a degenerate iterate
-            raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: the iterate "
-                                   f"degenerates ({error})") from error
+        lin = _linearise(model, xa, level, load, dt, hessian=False)
         inertia = mass * aa
         residual = inertia + lin.residual
         if damping is not None:
@@ -204,7 +200,7 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
             scale = max(float(np.abs(inertia[~fixed]).max(initial=0.0)),
                         float(np.abs(lin.residual[~fixed] + inertia[~fixed]).max(initial=0.0)),
                         float(np.abs(lin.residual[~fixed]).max(initial=0.0)),
-                        _load_scale(model, load, xa, level), 1e-30)
+                        _load_scale(model, load, lin, xa, level), 1e-30)
         volume_error = 0.0
         if held:
             volume_error = load.volume_target - liquid_volume(base, x)
@@ -214,12 +210,8 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
                          end_pressure)
         norm = float(np.abs(residual).max())
         if lu is None or not settings.reuse_factorisation or norm > CONTRACTION * previous:
-            try:
-                stiffness = linearise(model, xa, level, load).matrix
-            except (ZeroDivisionError, FloatingPointError) as error:
-                raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: the iterate "
-                                       f"degenerates ({error})") from error
-            matrix = (1.0 - af) * stiffness + sp.diags(c_m * mass_diag)
+            matrix = (1.0 - af) * _linearise(model, xa, level, load, dt).matrix \
+                + sp.diags(c_m * mass_diag)
             if damping is not None:
                 if damping_matrix is None:
                     damping_matrix = Tangent.build(len(x), [damping]).evaluate(v)[2]
@@ -260,15 +252,26 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
                            f"{settings.max_iterations} iterations")
 
 
-def _load_scale(model: NewtonModel, load: Load, x: np.ndarray, level: float) -> float:
-    """The largest free-node load (N): the pressure's |p + p0| |dV/dx_i| and the weight
-    m_i |b|. A step that starts in equilibrium (a slow fill's window) has no residual or
-    inertia to measure its tolerance against; the load it carries is the force scale."""
+def _linearise(model: NewtonModel, x, level: float, load: Load, dt: float, hessian=True):
+    """:func:`structure.newton.system.linearise`, an iterate whose triangles degenerate (a zero division in
+    the element kernels) raised as :class:`NewtonDivergence`."""
+    try:
+        return linearise(model, x, level, load, hessian=hessian)
+    except (ZeroDivisionError, FloatingPointError) as error:
+        raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: the iterate degenerates "
+                               f"({error})") from error
+
+
+def _load_scale(model: NewtonModel, load: Load, lin, x: np.ndarray, level: float) -> float:
+    """The largest free-node load (N): the pressure's |p + p0| |dV/dx_i| (the gradient
+    ``lin``'s, at ``x``) and the weight m_i |b|. A step that starts in equilibrium (a slow
+    fill's window) has no residual or inertia to measure its tolerance against; the load it
+    carries is the force scale."""
     base = model.base
     free = ~base.node_fixed
     body = float(np.linalg.norm(np.asarray(load.body_acceleration, dtype=float)))
     weight = float(base.node_mass[free].max(initial=0.0)) * body
-    gradient = liquid_volume_gradient(base, x)[free]
+    gradient = lin.volume_gradient[free]
     pressure = np.asarray(load.pressure(x), dtype=float)[free] + level
     return max(weight, float(np.max(np.abs(pressure) * np.linalg.norm(gradient, axis=1),
                                     initial=0.0)))
