@@ -121,10 +121,6 @@ def main(argv=None) -> dict:
     logging.getLogger("fsi").setLevel(logging.ERROR)
     logging.getLogger("coupling").setLevel(logging.ERROR)
     schemes = {}
-    if args.merge and not args.smoke and (DOCS_DATA / "implicit_window.json").is_file():
-        kept = json.loads((DOCS_DATA / "implicit_window.json").read_text())
-        if kept.get("end_time") == args.end_time:
-            schemes = {k: v for k, v in kept["schemes"].items() if k not in args.schemes}
     for name in args.schemes:
         schemes[name] = []
         for n in sorted(args.grids):
@@ -136,6 +132,12 @@ def main(argv=None) -> dict:
             schemes[name].append(entry)
             if entry["seconds"] > args.budget:
                 break
+    if args.merge and not args.smoke and (DOCS_DATA / "implicit_window.json").is_file():
+        # read at the end, so that a run of the other scheme that ended meanwhile is kept
+        kept = json.loads((DOCS_DATA / "implicit_window.json").read_text())
+        if kept.get("end_time") == args.end_time:
+            schemes = {**{k: v for k, v in kept["schemes"].items() if k not in schemes},
+                       **schemes}
     figure = output_dir(args.smoke) / FIGURE_NAME
     plot(schemes, figure)
     out = dict(end_time=args.end_time, schemes=schemes, goals_seconds=GOALS_SECONDS,
