@@ -50,26 +50,25 @@ def lookup(value: Any, dotted: str, where: str) -> Any:
     if dotted in ("", "."):
         return value
     head, _, rest = dotted.partition(".")
-    if head == "*":
-        if not isinstance(value, (dict, list)) or not value:
-            raise DataError(f"{where}: '*' in path {dotted!r} meets no list or object")
-        items = value.values() if isinstance(value, dict) else value
-        found = []
-        for item in items:
-            item = lookup(item, rest, where)
-            found.extend(item if isinstance(item, list) and "*" in rest else [item])
-        return found
-    if rest and "*" in rest:
-        return lookup(lookup(value, head, where), rest, where)
-    for part in dotted.split("."):
-        if isinstance(value, dict) and part in value:
-            value = value[part]
-        elif isinstance(value, list) and re.fullmatch(r"-?\d+", part) and \
-                -len(value) <= int(part) < len(value):
-            value = value[int(part)]
-        else:
-            raise DataError(f"{where}: no {part!r} in path {dotted!r}")
-    return value
+    if head != "*":
+        return lookup(_child(value, head, dotted, where), rest, where)
+    if not isinstance(value, (dict, list)) or not value:
+        raise DataError(f"{where}: '*' in path {dotted!r} meets no list or object")
+    found = []
+    for item in (value.values() if isinstance(value, dict) else value):
+        got = lookup(item, rest, where)
+        found.extend(got if "*" in rest else [got])
+    return found
+
+
+def _child(value: Any, part: str, dotted: str, where: str) -> Any:
+    """The object key or list index ``part`` of ``value``; DataError if absent."""
+    if isinstance(value, dict) and part in value:
+        return value[part]
+    if isinstance(value, list) and re.fullmatch(r"-?\d+", part) and \
+            -len(value) <= int(part) < len(value):
+        return value[int(part)]
+    raise DataError(f"{where}: no {part!r} in path {dotted!r}")
 
 
 def duration(seconds: float) -> str:
