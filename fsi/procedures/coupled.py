@@ -363,17 +363,23 @@ def coupling_settings(c: dict) -> CouplingSettings:
         extrapolation_order=c["extrapolation_order"])
 
 
+def implicit_window(scene) -> bool:
+    """Whether the scene's membrane windows are the generalised-alpha step on the tangent
+    stiffness (``coupling.time_scheme``), whose start and settings differ from XPBD's."""
+    return WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]][1] == "generalised-alpha"
+
+
 def window_settings(scene, settings):
     """The settings a coupled window's membrane step takes: ``settings`` (XPBD's) for the
     XPBD schemes; for ``coupling.time_scheme = "generalised-alpha"``, the
     :class:`structure.newton.dynamics.AlphaSettings` of ``coupling.rho_inf`` with the XPBD
     settings' node damping."""
-    c = scene["coupling"]
-    if WINDOW_TIME_SCHEMES[c["time_scheme"]][1] != "generalised-alpha":
+    if not implicit_window(scene):
         return settings
     from structure.newton.dynamics import AlphaSettings
 
-    return AlphaSettings(rho_inf=c["rho_inf"], node_damping=settings.node_damping)
+    return AlphaSettings(rho_inf=scene["coupling"]["rho_inf"],
+                         node_damping=settings.node_damping)
 
 
 def window_start(setup, scene, model, state, info, volume: float):
@@ -381,7 +387,7 @@ def window_start(setup, scene, model, state, info, volume: float):
     XPBD schemes; for generalised-alpha put at rest under the Newton model's energies
     (:func:`structure.newton.window.settled`, the liquid's hydrostatic field holding
     ``volume`` m^3), with a warning where that does not converge."""
-    if WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]][1] != "generalised-alpha":
+    if not implicit_window(scene):
         return state, info
     from structure.newton.window import settled
 

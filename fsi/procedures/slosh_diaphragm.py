@@ -54,8 +54,8 @@ from fsi.lifecycle import Run
 from fsi.setup.models import hydrostatic_load, statics_substep
 from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity, check_start_grid,
                                     coupling_settings, fluid_convection, fluid_participant,
-                                    membrane_surface, window_settings, window_start,
-                                    window_substep)
+                                    implicit_window, membrane_surface, window_settings,
+                                    window_start, window_substep)
 from fsi.procedures.coupled_fill import START_MAX_STEPS, static_equilibrium
 from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
@@ -141,7 +141,7 @@ def static_start(setup, window: float) -> StaticStart:
                                     xpbd_settle(setup, xpbd, statics, volume))
     else:
         state, info = static_equilibrium(setup, xpbd, statics, volume)
-    if WINDOW_TIME_SCHEMES[setup.scene["coupling"]["time_scheme"]][1] == "generalised-alpha":
+    if implicit_window(setup.scene):
         # the implicit window's start is settled under its own energies (window_start)
         return StaticStart(xpbd, settings, volume, state, info)
     state, info = static_equilibrium(setup, xpbd, settings, volume, state)
