@@ -126,6 +126,14 @@ def surface_of(model: FluidModel, geometry: Geometry) -> Surface:
     depth = beta_liquid.copy()
     depth[lumped] += beta_liquid[above[lumped]]
     beta[horizontal] = depth[horizontal]
+    # a face between a wet cell and one outside the liquid's cells that is not a surface
+    # face is closed: where the wall widens upwards, the lumped depth opens a face whose
+    # container fraction is 0 onto a cell outside the tank, and flux through it would leave
+    # the pressure system's cells (volume not conserved; a near-zero spurious slosh mode)
+    across = np.zeros(g.n_faces, dtype=bool)
+    across[inner] = wet[a] != wet[b]
+    across[faces] = False
+    beta[across] = 0.0
     view = replace(geometry, face_fraction=beta, cell_fraction=np.where(wet, alpha_c, 0.0))
     return Surface(wet, faces, cell, first, theta, point, view)
 

@@ -50,6 +50,26 @@ def test_surface_faces_cross_where_the_level_says():
     assert np.allclose(crossing.point[:, 2], level, atol=1e-12)
 
 
+def test_the_liquid_joins_no_cell_outside_it_but_through_the_surface():
+    """Where the wall widens upwards (tank fraction 0.2), the top layer's horizontal faces
+    are open as deep as the liquid, and the layer above can be inside the tank where the
+    top layer is not: no face open to the step then joins a pressure cell to a cell
+    outside them, other than the surface's own (before the fix, 48 faces on 32^3 cells did,
+    and their flux left the pressure system: the linear modes found a spurious mode at
+    lambda 0.063, the volume's)."""
+    grid = tank_grid(TANK_RADIUS, 32, axisymmetric=False)
+    tank = SphericalTank(TANK_RADIUS)
+    level = tank.level_holding(0.2 * 4.0 / 3.0 * np.pi * TANK_RADIUS**3)
+    surface = HeightSurface(grid, bottom=-3 * TANK_RADIUS)
+    model = _free_model(grid, tank, np.array([0.0, 0.0, -G]))
+    geometry = FluidSolver(model, surface.interface(surface.flat(level))).state.geometry
+    crossing = surface_of(model, geometry)
+    first, second = grid.face_cells
+    inner = np.flatnonzero((second >= 0) & (crossing.view.face_fraction > 0))
+    across = inner[crossing.wet[first[inner]] != crossing.wet[second[inner]]]
+    assert len(across) > 0 and np.all(np.isin(across, crossing.faces))
+
+
 def _cylinder_decay(cells: int, window: float, end_time: float, level: float = 0.31,
                     pulse: float = 0.5):
     """Upright cylinder (radius a, depth H) on a cells^3 grid, the level ``level`` cells
