@@ -47,6 +47,11 @@ UNITS = {
     "force": "N", "moment": "N m", "centre_of_mass": "m", "membrane_kinetic_energy": "J",
     "membrane_elastic_energy": "J", "membrane_liquid_volume": "m^3", "node_mass": "kg",
     "pressure": "Pa", "radial_position": "m", "tank_radius": "m", "fluid_interface_shift": "m",
+    "mode": "1", "azimuthal_order": "1", "direction_deg": "deg", "eigenvalue": "1",
+    "elevation": "m/kg^0.5", "surface_faces": "1", "liquid_mass": "kg",
+    "lambda1": "1", "frequency_hz": "Hz", "omega": "rad/s", "slosh_mass_fraction": "1",
+    "pendulum_length": "m", "spring_stiffness": "N/m", "static_compliance": "s^2",
+    "modal_compliance": "s^2", "level": "m",
 }
 
 UNIT_PREFIXES = {"deflection_": "m", "centre_deflection_": "m", "valid_": "1"}
@@ -80,6 +85,11 @@ GROUPS = {
     "windows": "every coupling window of a coupled-fill or slosh run",
     "surface": "a slosh run's height-surface nodes",
     "plate": "the plate-estimate procedure's closed forms, one record per fill",
+    "fills": "a modes run's first lateral mode and its spring-mass equivalent, one record "
+             "per tank fraction",
+    "modes": "a modes run's modes, one record per fill and mode",
+    "shapes": "a modes run's mode shapes: the surface's elevation over the grid's columns, "
+              "one record per fill",
 }
 """Groups of ``result.h5`` -> what they hold."""
 

@@ -18,7 +18,6 @@ Each procedure whose results are not membrane frames registers its plots in :dat
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Callable
 
 import matplotlib
 
@@ -26,7 +25,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from fsi.io import modes_plots as _modes_plots  # noqa: E402,F401  (registers its plots)
 from fsi.io.output import read_result  # noqa: E402
+from fsi.io.plot_registry import PLOTS, register_plots, save as _save  # noqa: E402
 
 
 def middle_column(pos: np.ndarray, n: int) -> np.ndarray:
@@ -39,19 +40,6 @@ def draw_tank(ax, radius):
     t = np.linspace(0, 2 * np.pi, 361)
     ax.plot(radius * np.cos(t), radius * np.sin(t), color="0.6", lw=1)
     ax.axhline(0.0, color="0.85", lw=0.8)
-
-
-PLOTS: dict[str, Callable[[dict, Path], list[Path]]] = {}
-"""procedure name -> plots(result, folder) -> written paths; procedures not listed get the
-membrane plots (:func:`membrane_plots`)."""
-
-
-def register_plots(procedure: str):
-    """Decorator: ``plots(result, folder)`` draws the results of ``procedure``."""
-    def add(plots):
-        PLOTS[procedure] = plots
-        return plots
-    return add
 
 
 def make_plots(run_dir) -> list[Path]:
@@ -99,12 +87,6 @@ def fill_label(group: dict, k: int, scale: str) -> str:
     if "converged" in group and not bool(group["converged"][k]):
         text += " - NOT CONVERGED"
     return text
-
-
-def _save(fig, path: Path) -> Path:
-    fig.savefig(path, dpi=90, bbox_inches="tight")
-    plt.close(fig)
-    return path
 
 
 def _cross_section_plot(pos, n: int, radius: float, label: str, path: Path) -> Path:

@@ -1,0 +1,196 @@
+"""The slosh modes of the liquid under a fixed mean surface: one eigenvalue problem, no time
+history.
+
+Linear slosh theory on the grid of :mod:`fluid.linear_surface`. Without viscosity and
+convection, the faces of that step evolve as a staggered grid's: for small motion about a
+mean surface at rest,
+
+    rho d2 xi_f / dt2 = -grad_f p           (every face of the liquid, displacement xi_f)
+    sum_f beta_f A_f xi_f = 0               (every liquid cell: incompressible)
+    p_s = rho s_s eta_s                     (every surface face s, eta_s = xi_s . n_s)
+
+with p the reduced pressure's change, s_s = -b . n_s the body acceleration's pull into the
+liquid across the face (g on a level surface's upward faces, 0 on a face whose normal is
+horizontal: p = 0 stays fixed there) and grad_f the step's face gradient (the ghost-fluid
+distance theta h at a surface face). Eliminating the cells' pressures leaves, on the faces
+with s_s > 0, the symmetric eigenproblem
+
+    S p = omega^2 diag(A_s / s_s) p,   S = K_ss - K_sc L^-1 K_cs,
+
+with L the pressure operator of the step on the liquid's cells (the container's cut faces,
+the surface faces' ghost-fluid conductances K_ss = diag(beta A / (theta h)) on its diagonal)
+and K_cs those conductances between each surface face and its cell. S is the discrete
+Dirichlet-to-Neumann map of the liquid, positive semi-definite; its null vector (uniform
+p: the liquid's volume changing) is the zero mode that incompressibility excludes. This is
+the liquid's added-mass operator condensed on the surface (NASTRAN's virtual fluid mass,
+Morand & Ohayon's (u, p) form with the liquid eliminated), and the time step of
+:mod:`fluid.linear_surface` is its Stormer-Verlet integrator: its frequencies are this
+problem's to O((omega dt)^2).
+
+One sparse LU of L (SuperLU) is solved for every surface face; S is then dense, k x k for
+k surface faces (about 450 on 24^3 cells at half fill), and solved whole by LAPACK.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.linalg as la
+import scipy.sparse.linalg as sla
+
+from .free_surface import Surface, _pressure_inputs, surface_of
+from .geometry import Geometry
+from .linear import single_blas_thread
+from .linear_surface import outward_normals, surface_areas
+from .model import FluidModel
+from .projection import ProjectionOperators, _liquid_regions
+
+#: a mode whose omega^2 is below this fraction of the largest is the zero (volume) mode
+ZERO_MODE_RTOL = 1e-9
+#: a surface face with less than this fraction of the largest face's area or conductance
+#: carries no flux (condensed out as a wall)
+MASSLESS_AREA = 1e-9
+#: a surface face through which less than this fraction of its own conductance reaches the
+#: rest of the liquid (the diagonal of the Dirichlet-to-Neumann map over it) is a wall
+DECOUPLED = 1e-6
+
+
+@dataclass(frozen=True)
+class SurfaceModes:
+    """The slosh modes of the liquid under a mean surface, by ascending frequency.
+
+    ``omega2`` (n,) rad^2/s^2; ``surface`` the :class:`fluid.free_surface.Surface`;
+    ``faces`` (k,) the indices (into ``surface.faces``) of the surface faces that carry a
+    restoring pressure (s > 0); ``area`` (k,) m^2 their wetted areas; ``pull`` (k,) m/s^2,
+    s = -b . n on each; ``elevation`` (k, n) m: each mode's surface elevation eta along the
+    outward normal, normalised to sum_s rho A_s eta_s^2 = 1 kg (so eta is in m per
+    sqrt(kg)); ``cell_pressure`` (n_cells, n) Pa: each mode's reduced-pressure amplitude
+    in the liquid's cells (0 elsewhere); ``face_displacement`` (n_faces, n) m: each mode's
+    displacement along FiPy's face normals, grad_f p / (rho omega^2)."""
+
+    omega2: np.ndarray
+    surface: Surface
+    faces: np.ndarray
+    area: np.ndarray
+    pull: np.ndarray
+    elevation: np.ndarray
+    cell_pressure: np.ndarray
+    face_displacement: np.ndarray
+
+    @property
+    def frequency_hz(self) -> np.ndarray:
+        """(n,) Hz."""
+        return np.sqrt(self.omega2) / (2.0 * np.pi)
+
+
+def surface_modes(model: FluidModel, geometry: Geometry, count: int,
+                  time: float = 0.0) -> SurfaceModes:
+    """The first ``count`` slosh modes of ``model``'s liquid under the mean surface of
+    ``geometry`` (a geometry computed with the interface at rest), body acceleration at
+    ``time`` (s); see the module doc. ValueError when the surface has a face where the body
+    acceleration pulls the liquid out (liquid above gas) or fewer faces than ``count``."""
+    if count < 1:
+        raise ValueError(f"count: at least 1 mode, got {count}")
+    with single_blas_thread():
+        return _surface_modes(model, geometry, count, time)
+
+
+def _surface_modes(model, geometry, count, time):
+    g = model.grid
+    rho = model.density
+    surface = surface_of(model, geometry)
+    normals = outward_normals(model, surface)
+    pull = -(normals @ model.body_acceleration_at(time))
+    scale = float(np.max(np.abs(pull))) if len(pull) else 0.0
+    if np.any(pull < -1e-12 * scale):
+        raise ValueError("the mean surface has faces with liquid above gas: no slosh modes "
+                         "about an unstable surface")
+    restoring = np.flatnonzero(pull > 1e-12 * scale)
+    wet = _main_region(model, surface)
+    restoring = restoring[np.isin(surface.cell[restoring], wet)]
+    if len(restoring) <= count:
+        raise ValueError(f"count: {count} modes asked of a surface with {len(restoring)} "
+                         f"restoring faces (refine the fluid grid)")
+    ops = ProjectionOperators(model)
+    zero_faces = np.zeros(g.n_faces)
+    # dt = rho: the step's coefficients beta dt / rho become the conductances beta A / d
+    inputs, _ = _pressure_inputs(model, ops, surface, zero_faces, zero_faces,
+                                 np.zeros(len(surface.faces)), rho)
+    matrix, _ = ops.assembly.pressure(inputs)
+    laplacian = (-matrix).tocsr()[wet][:, wet].tocsc()
+    conductance = surface.conductance(model)[restoring]
+    row = np.searchsorted(wet, surface.cell[restoring])
+    coupling = np.zeros((len(wet), len(restoring)))
+    coupling[row, np.arange(len(restoring))] = conductance
+    factors = sla.splu(laplacian)
+    response = factors.solve(coupling)          # (n_wet, k): L^-1 K_cs
+    dtn = np.diag(conductance) - coupling.T @ response
+    dtn = 0.5 * (dtn + dtn.T)
+    area = surface_areas(model, surface)[restoring]
+    stiffness = pull[restoring]
+    # a face the wall all but closes (its fraction round-off), or whose cell reaches the
+    # rest of the liquid only through such faces (a pocket with its own volume mode),
+    # carries no flux: a wall (its pressure condensed out)
+    held = area > MASSLESS_AREA * float(np.max(area))
+    held &= (np.diag(dtn) > DECOUPLED * conductance) & \
+        (conductance > MASSLESS_AREA * float(np.max(conductance)))
+    expand = np.eye(len(restoring))[:, held]  # surface pressures from the held faces'
+    if not held.all():
+        h, f = np.flatnonzero(held), np.flatnonzero(~held)
+        # (pseudo-inverse: a massless face whose cell joins nothing else has a zero row)
+        expand[f] = -np.linalg.pinv(dtn[np.ix_(f, f)], hermitian=True) @ dtn[np.ix_(f, h)]
+        dtn = expand.T @ dtn @ expand
+        dtn = 0.5 * (dtn + dtn.T)
+    area, stiffness = area[held], stiffness[held]
+    mass = np.diag(area / stiffness)
+    top = min(2 * count + 1, len(area) - 1)
+    values, vectors = la.eigh(dtn, mass, subset_by_index=[0, min(count, top)])
+    keep = values > ZERO_MODE_RTOL * max(float(values[-1]), 0.0)
+    if keep.sum() < count:
+        values, vectors = la.eigh(dtn, mass, subset_by_index=[0, top])
+        keep = values > ZERO_MODE_RTOL * float(values[-1])
+    values, vectors = values[keep][:count], vectors[:, keep][:, :count]
+    # eta = p / (rho s), scaled to sum rho A eta^2 = 1 kg
+    elevation = vectors / (rho * stiffness[:, None])
+    elevation = elevation / np.sqrt(np.sum(rho * area[:, None] * elevation**2, axis=0))
+    surface_pressure = expand @ (rho * stiffness[:, None] * elevation)
+    cell_pressure = np.zeros((g.n_cells, len(values)))
+    cell_pressure[wet] = response @ surface_pressure
+    displacement = _face_displacement(model, surface, restoring, cell_pressure,
+                                      surface_pressure, values)
+    return SurfaceModes(values, surface, restoring[held], area, stiffness, elevation, cell_pressure,
+                        displacement)
+
+
+def _main_region(model: FluidModel, surface: Surface) -> np.ndarray:
+    """The wet cells (sorted indices) of the connected liquid region holding the most liquid.
+    A cut cell at the wall can hold a sliver of liquid joined to nothing but its own surface
+    face: a pocket of its own volume, whose slosh is the zero mode of its volume (measured:
+    8 such modes on 28^3 cells at tank fraction 0.3)."""
+    beta = surface.view.face_fraction.copy()
+    beta[surface.faces] = 0.0
+    region = _liquid_regions(model, replace(surface.view, face_fraction=beta), surface.wet)
+    cells = np.flatnonzero(region >= 0)
+    volume = surface.view.cell_fraction[cells] * model.grid.cell_volume[cells]
+    largest = np.argmax(np.bincount(region[cells], volume))
+    return cells[region[cells] == largest]
+
+
+def _face_displacement(model, surface, restoring, cell_pressure, surface_pressure, omega2):
+    """(n_faces, n) m: grad_f p / (rho omega^2) on the liquid's faces along FiPy's normals
+    (the surface faces with their Dirichlet values, 0 on the faces without liquid)."""
+    g = model.grid
+    p_cell, n_cell = g.face_cells
+    beta = surface.view.face_fraction.copy()
+    beta[surface.faces] = 0.0
+    inner = (n_cell >= 0) & (beta > 0)
+    inner[inner] &= surface.wet[p_cell[inner]] & surface.wet[n_cell[np.flatnonzero(inner)]]
+    out = np.zeros((g.n_faces, len(omega2)))
+    f = np.flatnonzero(inner)
+    out[f] = (cell_pressure[n_cell[f]] - cell_pressure[p_cell[f]]) / g.face_distance[f, None]
+    values = np.zeros((len(surface.faces), len(omega2)))
+    values[restoring] = surface_pressure
+    towards = (values - cell_pressure[surface.cell]) / \
+        (surface.theta * g.face_distance[surface.faces])[:, None]
+    out[surface.faces] = np.where(surface.first[:, None], towards, -towards)
+    return out / (model.density * omega2[None, :])

@@ -1,0 +1,193 @@
+"""``modes``: the linear slosh modes at each tank fraction, one eigenvalue problem per fill.
+
+The rung between the hydrostatic and the coupled dynamic models: for small amplitudes the
+question is linear, and the standard engineering tools (NASTRAN's virtual fluid mass, the
+coupled acoustic-structural frequency steps, Morand & Ohayon's hydroelastic forms) answer it
+with an eigenvalue problem instead of a time history.
+
+* Start: the liquid at rest at each tank fraction V / (4/3 pi R^3) of ``modes.fills``, under
+  ``liquid.body_acceleration`` (gravity along -z).
+* Liquid: incompressible and inviscid, on the 3-D immersed-boundary tank grid of
+  ``fluid.cells`` cells, moved by less than a cell so that the level is a plane of faces
+  (:func:`fluid.tank.tank_grid`), with the liquid step's own pressure operator
+  (:func:`fluid.modes.surface_modes`).
+* Surface (``modes.surface``, a registry): ``limp``, the slack diaphragm, i.e. the free
+  surface with gravity.
+* Per fill (group ``fills``): the first lateral mode's frequency, lambda1 = omega^2 R / g and
+  spring-mass equivalent (slosh mass along x, its height, the pendulum and its hinge: the
+  names and units of the ``slosh`` procedure's), the first axial mode's frequency, the lateral
+  modes' sum m_n / (M omega_n^2) against the surface's static lateral compliance |z_c| / g.
+* Per mode (group ``modes``, ``modes.count`` per fill, by ascending frequency): its kind
+  (lateral, axial, higher), azimuthal order, direction, frequency, lambda and equivalent
+  (:mod:`fsi.slosh.modal`); group ``shapes``: each fill's mode shapes, the surface's elevation
+  over the grid's columns (m per sqrt(kg)).
+"""
+from __future__ import annotations
+
+import time as _time
+
+import numpy as np
+
+from fluid.container import SphericalTank
+from fluid.free_surface import column_index
+from fluid.linear import single_blas_thread
+from fluid.model import FluidModel
+from fluid.modes import surface_modes
+from fluid.solver import FluidSolver
+from fluid.tank import tank_grid
+from structure.volume import tank_volume
+
+from fsi.lifecycle import Progress, Run, RunResult
+from fsi.registry import Key, Procedure, SceneError, Table, one_of, register_procedure
+from fsi.slosh.limp import HeightSurface
+from fsi.slosh.modal import modal_slosh
+from fsi.procedures.coupled import FLUID
+from fsi.procedures.slosh import MIN_DEPTH_CELLS
+
+MODE_SURFACES = {"limp": "the slack diaphragm: the liquid's free surface under gravity"}
+"""modes.surface -> what it is."""
+
+
+def _fills(v) -> bool:
+    return isinstance(v, list) and len(v) >= 1 and all(
+        isinstance(c, (int, float)) and not isinstance(c, bool) and 0.0 < c < 1.0 for c in v)
+
+
+MODES = Table({
+    "fills": Key(list, [0.5], _fills, "non-empty list of numbers in (0, 1)",
+                 "tank fractions V / (4/3 pi R^3) of the liquid at rest"),
+    "surface": Key(str, "limp", *one_of(MODE_SURFACES),
+                   "the diaphragm model: limp (slack: the free surface under gravity)"),
+    "count": Key(int, 8, lambda v: 1 <= v <= 40, "1..40",
+                 "modes computed per fill, by ascending frequency"),
+})
+"""[modes]: the fills, surface model and number of modes of a modes run."""
+
+
+def check_setup(setup) -> None:
+    """Gravity along -z; the liquid and the gas each :data:`MIN_DEPTH_CELLS` cells deep at
+    every fill."""
+    scene = setup.scene
+    gravity = np.asarray(scene["liquid"]["body_acceleration"], dtype=float)
+    if not (gravity[2] < 0 and np.allclose(gravity[:2], 0.0)):
+        raise SceneError(f"scene key 'liquid.body_acceleration' = {gravity.tolist()!r}: a "
+                         f"modes run needs gravity along -z (0, 0, -g), g > 0")
+    radius = scene["tank"]["radius"]
+    tank = SphericalTank(radius)
+    h = 2 * radius / (scene["fluid"]["cells"] - 3)
+    for fill in scene["modes"]["fills"]:
+        level = tank.level_holding(fill * tank_volume(radius))
+        depth = min(radius + level, radius - level)
+        if depth < MIN_DEPTH_CELLS * h:
+            raise SceneError(f"scene key 'modes.fills' holds {fill!r}: the liquid or the gas "
+                             f"is {depth / h:.2f} fluid cells deep at fluid.cells = "
+                             f"{scene['fluid']['cells']} (allowed at least "
+                             f"{MIN_DEPTH_CELLS:g}); refine the grid")
+
+
+def fill_modes(setup, fill: float, count: int):
+    """The modes of the limp surface at tank fraction ``fill``: (the fill's record, the
+    modes' records, the shapes' record)."""
+    scene = setup.scene
+    radius = setup.model.radius
+    density = setup.liquid.density
+    body = np.asarray(setup.liquid.body_acceleration, dtype=float)
+    gravity = -float(body[2])
+    tank = SphericalTank(radius)
+    level = tank.level_holding(fill * tank_volume(radius))
+    tic = _time.perf_counter()
+    grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False, face_at=level)
+    model = FluidModel(grid=grid, container=tank, density=density, viscosity=0.0,
+                       body_acceleration=body, convection=False,
+                       interface_condition="free-linear")
+    heights = HeightSurface(grid, bottom=-2.0 * radius)
+    geometry = FluidSolver(model, heights.interface(heights.flat(level))).state.geometry
+    modes = surface_modes(model, geometry, count)
+    mass = density * geometry.liquid_volume
+    equivalents, elevation = modal_slosh(modes, model, radius, gravity, mass)
+    seconds = _time.perf_counter() - tic
+    records = [dict(tank_fraction=fill, mode=j + 1, azimuthal_order=e.order,
+                    direction_deg=e.direction_deg, frequency_hz=e.frequency_hz,
+                    omega=e.omega, eigenvalue=e.lambda1, slosh_mass=e.slosh_mass,
+                    slosh_mass_fraction=e.slosh_mass_fraction, lateral_mass=e.lateral_mass,
+                    slosh_mass_height=e.slosh_mass_height, pendulum_length=e.pendulum_length,
+                    hinge_height=e.hinge_height, spring_stiffness=e.spring_stiffness)
+               for j, e in enumerate(equivalents)]
+    lateral = [e for e in equivalents if e.kind == "lateral" and e.slosh_mass > 0]
+    axial = [e for e in equivalents if e.kind == "axial"]
+    centre = tank.centroid_below(level)
+    first = lateral[0] if lateral else None
+    record = dict(
+        tank_fraction=fill, level=level, liquid_mass=mass, centre_height=centre,
+        lambda1=first.lambda1 if first else np.nan,
+        frequency_hz=first.frequency_hz if first else np.nan,
+        omega=first.omega if first else np.nan,
+        slosh_mass=first.slosh_mass if first else np.nan,
+        slosh_mass_fraction=first.slosh_mass_fraction if first else np.nan,
+        slosh_mass_height=first.slosh_mass_height if first else np.nan,
+        pendulum_length=first.pendulum_length if first else np.nan,
+        hinge_height=first.hinge_height if first else np.nan,
+        axial_frequency_hz=axial[0].frequency_hz if axial else np.nan,
+        modal_compliance=sum(e.slosh_mass / e.omega**2 for e in lateral) / mass,
+        static_compliance=abs(centre) / gravity,
+        surface_faces=len(modes.faces), wall_seconds=seconds)
+    shape = _column_shapes(model, modes, elevation, count)
+    return record, records, dict(tank_fraction=fill, elevation=shape)
+
+
+def _column_shapes(model, modes, elevation: np.ndarray, count: int) -> np.ndarray:
+    """(nx, ny, count) m per sqrt(kg): each mode's ``elevation`` (k, n) over the grid's
+    columns (NaN
+    where a column has no surface face; the modes beyond those computed NaN)."""
+    g = model.grid
+    nx, ny = g.shape[0], g.shape[1]
+    column = column_index(g, modes.surface.cell[modes.faces])
+    out = np.full((nx * ny, count), np.nan)
+    out[column, :elevation.shape[1]] = elevation
+    return out.reshape(nx, ny, count)
+
+
+def modes(setup, progress: Progress) -> RunResult:
+    """The modes at each fill of ``modes.fills``."""
+    table = setup.scene["modes"]
+    fills = list(table["fills"])
+    run = Run(progress, len(fills))
+    with single_blas_thread():
+        for k, fill in enumerate(fills):
+            record, records, shape = fill_modes(setup, fill, table["count"])
+            run.record("fills", record)
+            for r in records:
+                run.record("modes", r)
+            run.record("shapes", shape)
+            run.progress(k + 1, f"tank fraction {fill:.3f}: lambda1 {record['lambda1']:.4f}")
+    first = run.groups["fills"][0]
+    headline = {k: first[k] for k in ("tank_fraction", "lambda1", "frequency_hz",
+                                      "slosh_mass_fraction", "hinge_height")}
+    return run.result(surface=table["surface"], fluid_cells=setup.scene["fluid"]["cells"],
+                      count=table["count"], radius=setup.model.radius,
+                      wall_seconds=run.elapsed(), **headline)
+
+
+def report(result: RunResult) -> None:
+    """The table ``fsi run`` prints after a modes run."""
+    a, f = result.attrs, result.groups["fills"]
+    print(f"modes ({a['surface']} surface) on {a['fluid_cells']}^3 cells, "
+          f"{len(f['tank_fraction'])} fill(s) in {a['wall_seconds']:.1f} s")
+    print("tank fraction  lambda1   f1 (Hz)  slosh mass  (of M)  mass z (m)  hinge z (m)  "
+          "axial f (Hz)")
+    for k, fill in enumerate(f["tank_fraction"]):
+        print(f"{fill:13.3f}  {f['lambda1'][k]:7.4f}  {f['frequency_hz'][k]:8.4f}  "
+              f"{f['slosh_mass'][k]:8.3f} kg  {f['slosh_mass_fraction'][k]:6.3f}  "
+              f"{f['slosh_mass_height'][k]:10.4f}  {f['hinge_height'][k]:11.4f}  "
+              f"{f['axial_frequency_hz'][k]:12.4f}")
+
+
+PROCEDURE = register_procedure(Procedure(
+    name="modes",
+    summary="linear slosh modes by tank fraction, one eigenvalue problem each: frequency, "
+            "lambda, spring-mass equivalent, mode shapes",
+    run=modes,
+    tables={"modes": MODES, "fluid": FLUID},
+    check_setup=check_setup,
+    report=report,
+))
