@@ -257,6 +257,7 @@ def cmd_advise(args) -> int:
 
 def cmd_show(args) -> int:
     from fsi.lifecycle import RunResult
+    from fsi.procedures import PROCEDURES
 
     res = read_run(args.run)
     a = res["attrs"]
@@ -270,7 +271,11 @@ def cmd_show(args) -> int:
         fills = (f", tank fraction {g['tank_fraction'][0]:.3f} ... "
                  f"{g['tank_fraction'][-1]:.3f}" if "tank_fraction" in g and n else "")
         print(f"  {name}: {n} records{span}{fills}")
-    unconverged = not_converged(RunResult(groups=groups, attrs=a))
+    result = RunResult(groups=groups, attrs=a)
+    procedure = PROCEDURES.get(str(a.get("procedure", "")))
+    if procedure is not None:
+        procedure.headline(result)
+    unconverged = not_converged(result)
     print(f"  converged: {'all' if not unconverged else 'not ' + unconverged}")
     print(f"  failure: {a.get('failure') or 'none'}; wall {float(a.get('run_seconds', np.nan)):.1f} s")
     return 0

@@ -89,7 +89,9 @@ class Procedure:
     structure model it runs (the scene may say it or 'auto'), None for any; membrane_shapes :
     the ``membrane.shape`` values it runs; check_setup :
     checks that need the built setup (grid spacings, stability limits), raising
-    :class:`SceneError`; report : prints the result's summary.
+    :class:`SceneError`; report : prints the result's summary; headline : prints what
+    ``fsi show`` says of a written result beside its record counts (the modes' frequencies
+    and slosh masses of a modes or slosh run), nothing for the others.
     """
 
     name: str
@@ -100,6 +102,7 @@ class Procedure:
     membrane_shapes: tuple = ("hemisphere",)
     check_setup: Callable[[Any], None] = _nothing
     report: Callable[[Any], None] = _nothing
+    headline: Callable[[Any], None] = _nothing
 
     def __call__(self, setup, progress):
         """Run the procedure: ``progress(fraction, message)`` is called as it goes. A run

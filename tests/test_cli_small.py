@@ -118,3 +118,20 @@ def test_a_solver_error_before_the_run_starts_is_one_line(tmp_path, capsys, monk
                                     "pseudo-step 7: a node moved 2 of its length in one step; "
                                     "nothing was written")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["big.toml"]
+
+
+def test_show_prints_a_modes_results_headline(tmp_path, capsys):
+    """``fsi show`` on a modes result prints, beside its record counts, the table of the
+    first lateral mode by fill that the run printed: lambda1, frequency and slosh mass."""
+    text = (tmp_path / "modes.toml")
+    source = load_scene("modes-by-fill").text
+    text.write_text(source.replace("fills = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]",
+                                   "fills = [0.5]").replace("cells = 24", "cells = 12"))
+    out = tmp_path / "run"
+    assert main(["run", str(text), "--out", str(out), "--no-plots"]) == 0
+    ran = capsys.readouterr().out
+    assert main(["show", str(out)]) == 0
+    shown = capsys.readouterr().out
+    assert "fills: 1 records" in shown and "lambda1" in shown
+    row = next(line for line in shown.splitlines() if line.strip().startswith("0.500"))
+    assert row in ran and float(row.split()[1]) == pytest.approx(1.5, abs=0.1)

@@ -190,4 +190,5 @@ PROCEDURE = register_procedure(Procedure(
     tables={"modes": MODES, "fluid": FLUID},
     check_setup=check_setup,
     report=report,
+    headline=report,
 ))

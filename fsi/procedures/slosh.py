@@ -301,4 +301,5 @@ PROCEDURE = register_procedure(Procedure(
     membrane_shapes=("hemisphere", "disc"),
     check_setup=check_depth,
     report=report,
+    headline=report,
 ))
