@@ -8,7 +8,10 @@ the port, and the measured static-against-dynamic differences they predict::
                                            into the tank, dQ/dt = Q / ramp_time
           + rho a_lat R                    the tank's largest lateral acceleration
     Pi_t = T_fill / T_1                    the fill's duration over the first slosh period,
-    T_1  = 2 pi sqrt(R / (lambda_1 g))     lambda_1 of the half-full rigid sphere (1.5602)
+    T_1  = 2 pi / omega_1                  the scene's own: the first lateral mode of its
+                                           liquid at its start and end tank fractions
+                                           (the modes rung, :func:`fsi.slosh.modal.tank_modes`,
+                                           on the scene's fluid grid), the longer of the two
 
 with Q = ``port.flow``, r_p and L_p the port stub's radius and length, T_fill =
 ``dynamics.end_time``, g = |``liquid.body_acceleration``|.  Small Pi_p: the pressure the
@@ -26,12 +29,15 @@ from pathlib import Path
 
 import numpy as np
 
-from fsi.constants import HALF_SPHERE_LAMBDA1
 from fsi.setup.motion import tank_acceleration
+from fsi.slosh.modal import tank_modes
+from structure.volume import tank_volume
 
 REGIME_TABLE_FILE = Path(__file__).with_name("regime_table.json")
 LATERAL_SAMPLES = 2001
 """Samples of a(t) over the run for its largest lateral value (-)."""
+PERIOD_FILLS = (0.05, 0.95)
+"""The tank fractions within which the slosh period is computed (a fill's ends clipped)."""
 
 
 @dataclass(frozen=True)
@@ -42,6 +48,8 @@ class Regime:
     hydrostatic_pressure: float
     fill_time: float
     slosh_period: float
+    period_fills: tuple = ()
+    periods: tuple = ()
 
     @property
     def pressure_ratio(self) -> float:
@@ -67,9 +75,33 @@ def regime(scene) -> Regime:
     times = np.linspace(0.0, dyn["end_time"], LATERAL_SAMPLES)
     a = tank_acceleration(scene["motion"])
     lateral = max(float(np.hypot(*a(t)[:2])) for t in times)
+    fills, periods = slosh_periods(scene)
     return Regime(dynamic_pressure=jet + column + rho * lateral * radius,
                   hydrostatic_pressure=rho * g * radius, fill_time=dyn["end_time"],
-                  slosh_period=2 * np.pi * np.sqrt(radius / (HALF_SPHERE_LAMBDA1 * g)))
+                  slosh_period=max(periods), period_fills=fills, periods=periods)
+
+
+def end_fill(scene) -> float:
+    """The tank fraction at a coupled fill's end: the start's plus the volume the port's
+    ramped flow Q(t) = flow min(t / ramp_time, 1) delivers by ``dynamics.end_time``."""
+    port, dyn = scene["port"], scene["dynamics"]
+    end, ramp = dyn["end_time"], port["ramp_time"]
+    delivered = port["flow"] * (end * end / (2 * ramp) if end <= ramp else end - ramp / 2)
+    return dyn["start_fill"] + delivered / tank_volume(scene["tank"]["radius"])
+
+
+def slosh_periods(scene) -> tuple[tuple, tuple]:
+    """((start, end) tank fractions, their first lateral slosh periods (s)): the modes rung
+    on the scene's fluid grid (:func:`fsi.slosh.modal.tank_modes`), the fractions clipped
+    to :data:`PERIOD_FILLS`."""
+    fills = tuple(float(np.clip(f, *PERIOD_FILLS))
+                  for f in (scene["dynamics"]["start_fill"], end_fill(scene)))
+    periods = []
+    for fill in fills:
+        found = tank_modes(scene["tank"]["radius"], fill, scene["fluid"]["cells"],
+                           scene["liquid"]["density"], scene["liquid"]["body_acceleration"], 2)
+        periods.append(2 * np.pi / found.first("lateral").omega)
+    return fills, tuple(periods)
 
 
 def load_table(path: Path = REGIME_TABLE_FILE) -> list[dict]:
@@ -101,7 +133,10 @@ def advise(scene, accuracy: float, rows: list[dict]) -> tuple[str, list[str]]:
     lines = [f"Pi_p = p_dyn / (rho g R) = {r.dynamic_pressure:.4g} Pa / "
              f"{r.hydrostatic_pressure:.4g} Pa = {r.pressure_ratio:.3g}",
              f"Pi_t = T_fill / T_1 = {r.fill_time:.4g} s / {r.slosh_period:.3g} s = "
-             f"{r.time_ratio:.3g}",
+             f"{r.time_ratio:.3g} (T_1 the first lateral slosh period of the scene's liquid: "
+             + ", ".join(f"{t:.3g} s at tank fraction {f:.3g}"
+                         for f, t in zip(r.period_fills, r.periods))
+             + ", the linear modes on its fluid grid)",
              f"measured static-against-dynamic difference at this Pi_p "
              f"({'beyond the measured range: its nearest end' if p['extrapolated'] else 'interpolated'}"
              f", {len(rows)} runs): Eqn 6.1 {p['eqn_6_1']:.3g} %, pressure level "

@@ -24,23 +24,16 @@ with an eigenvalue problem instead of a time history.
 """
 from __future__ import annotations
 
-import time as _time
-
 import numpy as np
 
 from fluid.container import SphericalTank
 from fluid.free_surface import column_index
 from fluid.linear import single_blas_thread
-from fluid.model import FluidModel
-from fluid.modes import surface_modes
-from fluid.solver import FluidSolver
-from fluid.tank import tank_grid
 from structure.volume import tank_volume
 
 from fsi.lifecycle import Progress, Run, RunResult
 from fsi.registry import Key, Procedure, SceneError, Table, one_of, register_procedure
-from fsi.slosh.limp import HeightSurface
-from fsi.slosh.modal import modal_slosh
+from fsi.slosh.modal import tank_modes
 from fsi.procedures.coupled import FLUID
 from fsi.procedures.slosh import MIN_DEPTH_CELLS
 
@@ -88,24 +81,11 @@ def check_setup(setup) -> None:
 def fill_modes(setup, fill: float, count: int):
     """The modes of the limp surface at tank fraction ``fill``: (the fill's record, the
     modes' records, the shapes' record)."""
-    scene = setup.scene
-    radius = setup.model.radius
-    density = setup.liquid.density
     body = np.asarray(setup.liquid.body_acceleration, dtype=float)
     gravity = -float(body[2])
-    tank = SphericalTank(radius)
-    level = tank.level_holding(fill * tank_volume(radius))
-    tic = _time.perf_counter()
-    grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False, face_at=level)
-    model = FluidModel(grid=grid, container=tank, density=density, viscosity=0.0,
-                       body_acceleration=body, convection=False,
-                       interface_condition="free-linear")
-    heights = HeightSurface(grid, bottom=-2.0 * radius)
-    geometry = FluidSolver(model, heights.interface(heights.flat(level))).state.geometry
-    modes = surface_modes(model, geometry, count)
-    mass = density * geometry.liquid_volume
-    equivalents, elevation = modal_slosh(modes, model, radius, gravity, mass)
-    seconds = _time.perf_counter() - tic
+    found = tank_modes(setup.model.radius, fill, setup.scene["fluid"]["cells"],
+                       setup.liquid.density, body, count)
+    equivalents = found.equivalents
     records = [dict(tank_fraction=fill, mode=j + 1, azimuthal_order=e.order,
                     direction_deg=e.direction_deg, frequency_hz=e.frequency_hz,
                     omega=e.omega, eigenvalue=e.lambda1, slosh_mass=e.slosh_mass,
@@ -114,24 +94,23 @@ def fill_modes(setup, fill: float, count: int):
                     hinge_height=e.hinge_height, spring_stiffness=e.spring_stiffness)
                for j, e in enumerate(equivalents)]
     lateral = [e for e in equivalents if e.kind == "lateral" and e.slosh_mass > 0]
-    axial = [e for e in equivalents if e.kind == "axial"]
-    centre = tank.centroid_below(level)
-    first = lateral[0] if lateral else None
+    first, axial = found.first("lateral"), found.first("axial")
+    mass = found.mass
+
+    def of_first(name):
+        return getattr(first, name) if first is not None else np.nan
+
     record = dict(
-        tank_fraction=fill, level=level, liquid_mass=mass, centre_height=centre,
-        lambda1=first.lambda1 if first else np.nan,
-        frequency_hz=first.frequency_hz if first else np.nan,
-        omega=first.omega if first else np.nan,
-        slosh_mass=first.slosh_mass if first else np.nan,
-        slosh_mass_fraction=first.slosh_mass_fraction if first else np.nan,
-        slosh_mass_height=first.slosh_mass_height if first else np.nan,
-        pendulum_length=first.pendulum_length if first else np.nan,
-        hinge_height=first.hinge_height if first else np.nan,
-        axial_frequency_hz=axial[0].frequency_hz if axial else np.nan,
+        tank_fraction=fill, level=found.level, liquid_mass=mass,
+        centre_height=found.centre_height,
+        **{name: of_first(name) for name in ("lambda1", "frequency_hz", "omega", "slosh_mass",
+                                             "slosh_mass_fraction", "slosh_mass_height",
+                                             "pendulum_length", "hinge_height")},
+        axial_frequency_hz=axial.frequency_hz if axial is not None else np.nan,
         modal_compliance=sum(e.slosh_mass / e.omega**2 for e in lateral) / mass,
-        static_compliance=abs(centre) / gravity,
-        surface_faces=len(modes.faces), wall_seconds=seconds)
-    shape = _column_shapes(model, modes, elevation, count)
+        static_compliance=abs(found.centre_height) / gravity,
+        surface_faces=len(found.modes.faces), wall_seconds=found.seconds)
+    shape = _column_shapes(found.model, found.modes, found.elevation, count)
     return record, records, dict(tank_fraction=fill, elevation=shape)
 
 

@@ -24,9 +24,19 @@ the one along y, as the time domain's pulse along x sees them.
 """
 from __future__ import annotations
 
+import time as _time
 from dataclasses import dataclass
 
 import numpy as np
+
+from fluid.container import SphericalTank
+from fluid.model import FluidModel
+from fluid.modes import SurfaceModes, surface_modes
+from fluid.solver import FluidSolver
+from fluid.tank import tank_grid
+from structure.volume import tank_volume
+
+from fsi.slosh.limp import HeightSurface
 
 PAIR_RTOL = 0.01
 """Two modes whose omega^2 differ by less than this fraction are one lateral pair of the tank
@@ -162,3 +172,53 @@ def _moment(model, surface, displacement: np.ndarray) -> np.ndarray:
     z_faces = g.face_axis == g.vertical_axis
     return (volume[x_faces] * centre[x_faces, 2]) @ along[x_faces] - \
         (volume[z_faces] * centre[z_faces, 0]) @ along[z_faces]
+
+
+@dataclass(frozen=True)
+class TankModes:
+    """The slosh modes of the rigid spherical tank at one tank fraction: the liquid's
+    ``model`` and ``geometry`` at rest under the ``level`` (m), its ``modes``
+    (:class:`fluid.modes.SurfaceModes`), their ``equivalents`` (:class:`ModalSlosh`, lateral
+    pairs rotated to x and y) and ``elevation`` (k, n) m per sqrt(kg) so rotated, the
+    liquid's ``mass`` (kg), its centroid's height ``centre_height`` (m) and the ``seconds``
+    it took."""
+
+    model: FluidModel
+    geometry: object
+    level: float
+    modes: SurfaceModes
+    equivalents: list
+    elevation: np.ndarray
+    mass: float
+    centre_height: float
+    seconds: float
+
+    def first(self, kind: str) -> ModalSlosh | None:
+        """The lowest mode of ``kind`` ('lateral' with a slosh mass along x, 'axial'), or
+        None when none is among those computed."""
+        return next((e for e in self.equivalents if e.kind == kind
+                     and (kind != "lateral" or e.slosh_mass > 0)), None)
+
+
+def tank_modes(radius: float, fill: float, cells: int, density: float, body, count: int) \
+        -> TankModes:
+    """The first ``count`` slosh modes of the limp surface (the free surface) in a sphere of
+    ``radius`` (m) at tank fraction ``fill`` = V / (4/3 pi R^3), liquid of ``density``
+    (kg/m^3) under the body acceleration ``body`` (3,) m/s^2 (along -z), on the 3-D tank grid
+    of ``cells`` cells moved so that the level is a plane of faces
+    (:func:`fluid.tank.tank_grid`)."""
+    body = np.asarray(body, dtype=float)
+    tank = SphericalTank(radius)
+    level = tank.level_holding(fill * tank_volume(radius))
+    tic = _time.perf_counter()
+    grid = tank_grid(radius, cells, axisymmetric=False, face_at=level)
+    model = FluidModel(grid=grid, container=tank, density=density, viscosity=0.0,
+                       body_acceleration=body, convection=False,
+                       interface_condition="free-linear")
+    heights = HeightSurface(grid, bottom=-2.0 * radius)
+    geometry = FluidSolver(model, heights.interface(heights.flat(level))).state.geometry
+    modes = surface_modes(model, geometry, count)
+    mass = density * geometry.liquid_volume
+    equivalents, elevation = modal_slosh(modes, model, radius, -float(body[2]), mass)
+    return TankModes(model, geometry, level, modes, equivalents, elevation, mass,
+                     tank.centroid_below(level), _time.perf_counter() - tic)
