@@ -37,13 +37,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse.linalg as sla
+from scipy import sparse
 
 from .free_surface import Surface, _pressure_inputs, surface_of
 from .geometry import Geometry
 from .linear import single_blas_thread
 from .linear_surface import outward_normals, surface_areas
 from .model import FluidModel
-from .projection import ProjectionOperators, _liquid_regions
+from .projection import THETA_MIN, ProjectionOperators, _liquid_regions
 
 #: a mode whose omega^2 is below this fraction of the largest is the zero (volume) mode
 ZERO_MODE_RTOL = 1e-9
@@ -66,7 +67,10 @@ class SurfaceModes:
     outward normal, normalised to sum_s rho A_s eta_s^2 = 1 kg (so eta is in m per
     sqrt(kg)); ``cell_pressure`` (n_cells, n) Pa: each mode's reduced-pressure amplitude
     in the liquid's cells (0 elsewhere); ``face_displacement`` (n_faces, n) m: each mode's
-    displacement along FiPy's face normals, grad_f p / (rho omega^2)."""
+    displacement along FiPy's face normals, grad_f p / (rho omega^2); ``stiffness``
+    (n,) m/s^2: each mode's eta^T K eta, its elastic and gravitational energy twice over
+    (g for every mode of a free surface under gravity g); ``tension`` (N/m) the membrane's
+    on the surface (0: free)."""
 
     omega2: np.ndarray
     surface: Surface
@@ -76,6 +80,8 @@ class SurfaceModes:
     elevation: np.ndarray
     cell_pressure: np.ndarray
     face_displacement: np.ndarray
+    stiffness: np.ndarray
+    tension: float = 0.0
 
     @property
     def frequency_hz(self) -> np.ndarray:
@@ -84,18 +90,69 @@ class SurfaceModes:
 
 
 def surface_modes(model: FluidModel, geometry: Geometry, count: int,
-                  time: float = 0.0) -> SurfaceModes:
+                  time: float = 0.0, tension: float = 0.0) -> SurfaceModes:
     """The first ``count`` slosh modes of ``model``'s liquid under the mean surface of
     ``geometry`` (a geometry computed with the interface at rest), body acceleration at
-    ``time`` (s); see the module doc. ValueError when the surface has a face where the body
-    acceleration pulls the liquid out (liquid above gas) or fewer faces than ``count``."""
+    ``time`` (s); see the module doc. ``tension`` (N/m): a massless membrane under this
+    uniform tension lies on the surface, pinned where it meets the wall (0: the free
+    surface; see :func:`membrane_stiffness`). ValueError when the surface has a face where
+    the body acceleration pulls the liquid out (liquid above gas) or fewer faces than
+    ``count``."""
     if count < 1:
         raise ValueError(f"count: at least 1 mode, got {count}")
+    if not tension >= 0:
+        raise ValueError(f"tension: at least 0 N/m, got {tension}")
     with single_blas_thread():
-        return _surface_modes(model, geometry, count, time)
+        return _surface_modes(model, geometry, count, time, tension)
 
 
-def _surface_modes(model, geometry, count, time):
+def membrane_stiffness(model: FluidModel, surface: Surface, faces: np.ndarray) -> sparse.csr_matrix:
+    """(k, k) m^0: the finite-volume form of int |grad eta|^2 dA over the surface faces
+    ``faces`` (indices into ``surface.faces``, faces normal to the vertical on one level),
+    finite differences between the faces' centres: between two faces of neighbouring
+    columns their difference squared (edge over distance, h / h); where a column's
+    neighbour is not a face whose centre is inside the container, eta = 0 on the wall
+    where the container's level set crosses between the two centres (its distance theta h
+    from the face's, at least ``THETA_MIN`` h), eta^2 / theta (Shortley-Weller's distance);
+    a face whose centre is outside lies on the wall, eta = 0 (held by 1 / THETA_MIN). A membrane of uniform tension
+    T stores T/2 eta^T G eta (J) in it."""
+    g = model.grid
+    f = surface.faces[faces]
+    if np.any(g.face_axis[f] != g.vertical_axis):
+        raise ValueError("a membrane lies on a level surface: faces normal to the vertical")
+    ij = g.cell_index[surface.cell[faces]][:, :2]
+    centre = model.grid_points(g.face_centre[f])
+    level = model.container.level_set
+    inside = np.array([float(level(tuple(c))) < 0 for c in centre])
+    key = ij[:, 0] * g.shape[1] + ij[:, 1]
+    lookup = {int(k): a for a, k in enumerate(key) if inside[a]}
+    rows, cols, values = [], [], []
+    # a face whose centre is outside the container lies on the wall: eta = 0 there
+    outside = np.flatnonzero(~inside)
+    rows += outside.tolist()
+    cols += outside.tolist()
+    values += [1.0 / THETA_MIN] * len(outside)
+    h = g.spacing
+    for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        other = [lookup.get(int(k)) for k in (ij[:, 0] + di) * g.shape[1] + ij[:, 1] + dj]
+        for a in np.flatnonzero(inside):
+            b = other[a]
+            if b is not None:
+                if b > a:  # each pair once
+                    rows += [a, b, a, b]
+                    cols += [a, b, b, a]
+                    values += [1.0, 1.0, -1.0, -1.0]
+                continue
+            phi0 = float(level(tuple(centre[a])))
+            phi1 = float(level(tuple(centre[a] + h * np.array([di, dj, 0.0]))))
+            theta = phi0 / (phi0 - phi1) if phi1 > 0 else 1.0
+            rows.append(a)
+            cols.append(a)
+            values.append(1.0 / max(theta, THETA_MIN))
+    return sparse.csr_matrix((values, (rows, cols)), shape=(len(faces), len(faces)))
+
+
+def _surface_modes(model, geometry, count, time, tension):
     g = model.grid
     rho = model.density
     surface = surface_of(model, geometry)
@@ -142,7 +199,16 @@ def _surface_modes(model, geometry, count, time):
         dtn = expand.T @ dtn @ expand
         dtn = 0.5 * (dtn + dtn.T)
     area, stiffness = area[held], stiffness[held]
-    mass = np.diag(area / stiffness)
+    # the surface's stiffness K (N/m per face): gravity, and the membrane's tension; the
+    # pressure p on the faces balances it, A p = K eta, so that S p = omega^2 rho A K^-1 A p
+    gravity = rho * stiffness * area
+    if tension > 0:
+        elastic = tension * membrane_stiffness(model, surface, restoring[held])
+        compliance = np.linalg.inv(np.diag(gravity) + elastic.toarray())
+    else:
+        compliance = np.diag(1.0 / gravity)
+    mass = rho * area[:, None] * compliance * area[None, :]
+    mass = 0.5 * (mass + mass.T)
     top = min(2 * count + 1, len(area) - 1)
     values, vectors = la.eigh(dtn, mass, subset_by_index=[0, min(count, top)])
     keep = values > ZERO_MODE_RTOL * max(float(values[-1]), 0.0)
@@ -150,16 +216,19 @@ def _surface_modes(model, geometry, count, time):
         values, vectors = la.eigh(dtn, mass, subset_by_index=[0, top])
         keep = values > ZERO_MODE_RTOL * float(values[-1])
     values, vectors = values[keep][:count], vectors[:, keep][:, :count]
-    # eta = p / (rho s), scaled to sum rho A eta^2 = 1 kg
-    elevation = vectors / (rho * stiffness[:, None])
-    elevation = elevation / np.sqrt(np.sum(rho * area[:, None] * elevation**2, axis=0))
-    surface_pressure = expand @ (rho * stiffness[:, None] * elevation)
+    # eta = K^-1 A p, scaled (with p) to sum rho A eta^2 = 1 kg
+    elevation = compliance @ (area[:, None] * vectors)
+    scale = 1.0 / np.sqrt(np.sum(rho * area[:, None] * elevation**2, axis=0))
+    elevation = elevation * scale
+    surface_pressure = expand @ (vectors * scale)
+    # A p = K eta: eta^T K eta = eta^T A p
+    modal_stiffness = np.sum(elevation * area[:, None] * vectors * scale, axis=0)
     cell_pressure = np.zeros((g.n_cells, len(values)))
     cell_pressure[wet] = response @ surface_pressure
     displacement = _face_displacement(model, surface, restoring, cell_pressure,
                                       surface_pressure, values)
-    return SurfaceModes(values, surface, restoring[held], area, stiffness, elevation, cell_pressure,
-                        displacement)
+    return SurfaceModes(values, surface, restoring[held], area, stiffness, elevation,
+                        cell_pressure, displacement, modal_stiffness, tension)
 
 
 def _main_region(model: FluidModel, surface: Surface) -> np.ndarray:

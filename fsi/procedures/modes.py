@@ -11,8 +11,10 @@ with an eigenvalue problem instead of a time history.
   ``fluid.cells`` cells, moved by less than a cell so that the level is a plane of faces
   (:func:`fluid.tank.tank_grid`), with the liquid step's own pressure operator
   (:func:`fluid.modes.surface_modes`).
-* Surface (``modes.surface``, a registry): ``limp``, the slack diaphragm, i.e. the free
-  surface with gravity.
+* Surface (``modes.surface``): ``limp``, the slack diaphragm, i.e. the free surface with
+  gravity; ``tensioned``, a massless flat membrane of uniform tension ``modes.tension`` (N/m)
+  lying on the level and pinned where it meets the wall (the hydroelastic model of the
+  closed form it is checked against).
 * Per fill (group ``fills``): the first lateral mode's frequency, lambda1 = omega^2 R / g and
   spring-mass equivalent (slosh mass along x, its height, the pendulum and its hinge: the
   names and units of the ``slosh`` procedure's), the first axial mode's frequency, the lateral
@@ -37,7 +39,9 @@ from fsi.slosh.modal import tank_modes
 from fsi.procedures.coupled import FLUID
 from fsi.procedures.slosh import MIN_DEPTH_CELLS
 
-MODE_SURFACES = {"limp": "the slack diaphragm: the liquid's free surface under gravity"}
+MODE_SURFACES = {"limp": "the slack diaphragm: the liquid's free surface under gravity",
+                 "tensioned": "a massless flat membrane of uniform tension modes.tension "
+                              "lying on the level, pinned where it meets the wall"}
 """modes.surface -> what it is."""
 
 
@@ -50,11 +54,22 @@ MODES = Table({
     "fills": Key(list, [0.5], _fills, "non-empty list of numbers in (0, 1)",
                  "tank fractions V / (4/3 pi R^3) of the liquid at rest"),
     "surface": Key(str, "limp", *one_of(MODE_SURFACES),
-                   "the diaphragm model: limp (slack: the free surface under gravity)"),
+                   "the diaphragm model: limp (slack: the free surface under gravity) or "
+                   "tensioned (a massless flat membrane of uniform tension modes.tension on "
+                   "the level, pinned at the wall)"),
+    "tension": Key(float, 0.0, lambda v: 0 <= v <= 1e6, "0..1e6 N/m",
+                   "tensioned: the membrane's uniform tension (N/m)"),
     "count": Key(int, 8, lambda v: 1 <= v <= 40, "1..40",
                  "modes computed per fill, by ascending frequency"),
-})
+}, lambda t: _check_tension(t))
 """[modes]: the fills, surface model and number of modes of a modes run."""
+
+
+def _check_tension(table: dict) -> None:
+    if (table["surface"] == "tensioned") != (table["tension"] > 0):
+        raise SceneError(f"scene key 'modes.tension' = {table['tension']!r} N/m with "
+                         f"modes.surface = {table['surface']!r}: allowed > 0 for 'tensioned' "
+                         f"and 0 for 'limp'")
 
 
 def check_setup(setup) -> None:
@@ -84,7 +99,8 @@ def fill_modes(setup, fill: float, count: int):
     body = np.asarray(setup.liquid.body_acceleration, dtype=float)
     gravity = -float(body[2])
     found = tank_modes(setup.model.radius, fill, setup.scene["fluid"]["cells"],
-                       setup.liquid.density, body, count)
+                       setup.liquid.density, body, count,
+                       tension=setup.scene["modes"]["tension"])
     equivalents = found.equivalents
     records = [dict(tank_fraction=fill, mode=j + 1, azimuthal_order=e.order,
                     direction_deg=e.direction_deg, frequency_hz=e.frequency_hz,

@@ -8,8 +8,14 @@ displacement field xi_j in the liquid, excited by a lateral tank acceleration a 
 (NASA SP-106, ch. 6; the derivation in docs/models/slosh-modes.md):
 
     Gamma_j = rho sum_s A_s x_s eta_js           (kg^1/2 m: the mode's participation in x)
-    m_j     = omega_j^2 Gamma_j^2 / g            (kg: its slosh mass, the x share)
+    m_j     = omega_j^2 Gamma_j^2 / k_j          (kg: its slosh mass, the x share)
     h_j     = rho int (z xi_x - x xi_z) dV / Gamma_j      (m: the slosh mass's height)
+
+with k_j = eta_j^T K eta_j the mode's stiffness (g for a free surface under gravity g; with
+a membrane on the surface, its tension's share added). The height is SP-106's for a free
+surface, whose moment about the tank's centre is the moved liquid's weight and its
+momentum's: a membrane pinned to the wall adds the rim's force, which that form has no
+term for, so a tensioned surface's h_j and hinge are not given (NaN).
 
 and the pendulum of the same mode has length g / omega_j^2, hinged at h_j + g / omega_j^2.
 The masses of all modes sum to at most the liquid's (the rest is the fixed mass), and
@@ -90,13 +96,17 @@ def azimuthal_order(point: np.ndarray, area: np.ndarray, elevation: np.ndarray,
     return int(np.argmax(power))
 
 
-def lateral_pairs(omega2: np.ndarray, vectors: np.ndarray, participation: np.ndarray):
+def lateral_pairs(omega2: np.ndarray, vectors: np.ndarray, participation: np.ndarray,
+                  stiffness: np.ndarray | None = None):
     """Rotate each pair of modes closer than ``PAIR_RTOL`` in omega^2 whose participations
     (n, 2) both reach the lateral directions into the one along x and the one along y.
     ``vectors`` (..., n) the modes' fields (any number of leading axes, each mode's field on
-    the last). Returns (omega2 (n,), vectors, participation (n, 2)), the pair's omega^2
-    the Rayleigh quotient of each rotated mode."""
+    the last). Returns (omega2 (n,), vectors, participation (n, 2), stiffness (n,)), the
+    pair's omega^2 the Rayleigh quotient of each rotated mode and its ``stiffness`` (n,)
+    (each mode's eta^T K eta; the modes are K-orthogonal) likewise; ``stiffness`` None:
+    ones."""
     omega2, vectors, participation = omega2.copy(), vectors.copy(), participation.copy()
+    stiffness = np.ones(len(omega2)) if stiffness is None else np.array(stiffness, float)
     j = 0
     while j < len(omega2) - 1:
         k = j + 1
@@ -111,8 +121,9 @@ def lateral_pairs(omega2: np.ndarray, vectors: np.ndarray, participation: np.nda
         vectors[..., [j, k]] = vectors[..., [j, k]] @ rotation
         participation[[j, k]] = rotation.T @ participation[[j, k]]
         omega2[[j, k]] = rotation.T**2 @ omega2[[j, k]]
+        stiffness[[j, k]] = rotation.T**2 @ stiffness[[j, k]]
         j += 2
-    return omega2, vectors, participation
+    return omega2, vectors, participation, stiffness
 
 
 def modal_slosh(modes, model, radius: float, gravity: float, liquid_mass: float) \
@@ -129,7 +140,8 @@ def modal_slosh(modes, model, radius: float, gravity: float, liquid_mass: float)
     participation = rho * np.stack([point[:, 0] @ (modes.area[:, None] * eta),
                                     point[:, 1] @ (modes.area[:, None] * eta)], axis=1)
     fields = np.concatenate([eta, modes.face_displacement], axis=0)
-    omega2, fields, participation = lateral_pairs(modes.omega2, fields, participation)
+    omega2, fields, participation, stiffness = lateral_pairs(modes.omega2, fields,
+                                                             participation, modes.stiffness)
     eta, displacement = fields[:len(eta)], fields[len(eta):]
     moment = rho * _moment(model, surface, displacement)
     out = []
@@ -137,14 +149,15 @@ def modal_slosh(modes, model, radius: float, gravity: float, liquid_mass: float)
         gx, gy = participation[j]
         order = azimuthal_order(point, modes.area, eta[:, j], g.spacing)
         kind = {0: "axial", 1: "lateral"}.get(order, "higher")
-        lateral = w2 * (gx * gx + gy * gy) / gravity
-        mass = w2 * gx * gx / gravity
+        lateral = w2 * (gx * gx + gy * gy) / stiffness[j]
+        mass = w2 * gx * gx / stiffness[j]
         direction = float(np.degrees(np.arctan2(gy, gx))) if kind == "lateral" else 0.0
         if direction <= -90.0:
             direction += 180.0
         elif direction > 90.0:
             direction -= 180.0
-        height = float(moment[j] / gx) if abs(gx) > 1e-12 * abs(gy) + 1e-300 else np.nan
+        height = float(moment[j] / gx) if abs(gx) > 1e-12 * abs(gy) + 1e-300 \
+            and modes.tension == 0 else np.nan
         length = gravity / w2
         omega = float(np.sqrt(w2))
         out.append(ModalSlosh(
@@ -200,13 +213,14 @@ class TankModes:
                      and (kind != "lateral" or e.slosh_mass > 0)), None)
 
 
-def tank_modes(radius: float, fill: float, cells: int, density: float, body, count: int) \
-        -> TankModes:
+def tank_modes(radius: float, fill: float, cells: int, density: float, body, count: int,
+               tension: float = 0.0) -> TankModes:
     """The first ``count`` slosh modes of the limp surface (the free surface) in a sphere of
     ``radius`` (m) at tank fraction ``fill`` = V / (4/3 pi R^3), liquid of ``density``
     (kg/m^3) under the body acceleration ``body`` (3,) m/s^2 (along -z), on the 3-D tank grid
     of ``cells`` cells moved so that the level is a plane of faces
-    (:func:`fluid.tank.tank_grid`)."""
+    (:func:`fluid.tank.tank_grid`); ``tension`` (N/m): a massless flat membrane of that
+    uniform tension on the level, pinned at the wall (:func:`fluid.modes.surface_modes`)."""
     body = np.asarray(body, dtype=float)
     tank = SphericalTank(radius)
     level = tank.level_holding(fill * tank_volume(radius))
@@ -217,7 +231,7 @@ def tank_modes(radius: float, fill: float, cells: int, density: float, body, cou
                        interface_condition="free-linear")
     heights = HeightSurface(grid, bottom=-2.0 * radius)
     geometry = FluidSolver(model, heights.interface(heights.flat(level))).state.geometry
-    modes = surface_modes(model, geometry, count)
+    modes = surface_modes(model, geometry, count, tension=tension)
     mass = density * geometry.liquid_volume
     equivalents, elevation = modal_slosh(modes, model, radius, -float(body[2]), mass)
     return TankModes(model, geometry, level, modes, equivalents, elevation, mass,
