@@ -10,8 +10,9 @@ grid, each {``fill``, ``cells``, ``surface``, ``lambda1``, ``frequency_hz``,
 ``slosh_mass_fraction``, ``slosh_mass_height``, ``hinge_height``, ``wall_seconds``};
 ``extrapolated`` per fill, Richardson's value at zero cell size from the two finest grids
 (order 2, the scheme's; with three grids or more also the observed order of the three
-finest); ``reference``, the table it is checked against (:data:`REFERENCE`) and each grid's
-and the extrapolation's error from it; ``table_seconds`` per grid, the whole table's wall
+finest); ``reference``, the table it is checked against (:data:`REFERENCE`, from
+``docs/data/sphere_slosh_reference.json``) and each grid's and the extrapolation's error
+from it; ``table_seconds`` per grid, the whole table's wall
 time; and the time domain's peer at 0.3 and 0.7 (OpenFOAM interFoam, :data:`INTERFOAM`).
 Writes ``benchmarks/output/modes_by_fill.png`` (lambda1 and the slosh mass fraction
 against tank fraction, each grid, the extrapolation and the reference). A full run's JSON
@@ -21,11 +22,12 @@ also goes to ``docs/data/modes_by_fill.json``. ``--smoke``: tank fractions 0.3 a
 from __future__ import annotations
 
 import argparse
+import json
 import logging
 import time
 
 
-from _report import SMOKE_HELP, emit, output_dir
+from _report import DOCS_DATA, SMOKE_HELP, emit, output_dir
 from fluid.tank import tank_spacing
 from fsi.analysis.extrapolation import observed_order, richardson
 from fsi.constants import TANK_RADIUS
@@ -41,12 +43,20 @@ FILLS = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
 
 #: OpenFOAM interFoam v1912 on this machine (castellated sphere, 34,776 cells, 2 cores):
 #: lambda1 and wall seconds for five periods of the time domain's free decay
-INTERFOAM = {"0.3": {"lambda1": 1.2924, "seconds_five_periods": 160.0},
-             "0.7": {"lambda1": 1.8804, "seconds_five_periods": 110.0}, "cells": 34776}
+INTERFOAM = [{"fill": 0.3, "lambda1": 1.2924, "seconds_five_periods": 160.0, "cells": 34776},
+             {"fill": 0.7, "lambda1": 1.8804, "seconds_five_periods": 110.0, "cells": 34776}]
 
-#: lambda1 = omega^2 R / g of the rigid sphere's first lateral mode by tank fraction
-REFERENCE: dict[str, float] = {}
-REFERENCE_SOURCE = ""
+#: lambda1 = omega^2 R / g of the rigid sphere's first lateral mode by tank fraction: the
+#: independent finite-element reference (benchmarks/sphere_slosh_reference.py, 8 digits;
+#: Budiansky's 1.5602 at half fill)
+_SOURCE = DOCS_DATA / "sphere_slosh_reference.json"
+REFERENCE: dict[str, float] = ({k: v["lambda1"] for k, v in
+                                json.loads(_SOURCE.read_text())["fills"].items()}
+                               if _SOURCE.exists() else {})
+REFERENCE_MASS: dict[str, float] = ({k: v["slosh_mass_fraction"] for k, v in
+                                     json.loads(_SOURCE.read_text())["fills"].items()}
+                                    if _SOURCE.exists() else {})
+REFERENCE_SOURCE = "axisymmetric P2 reference (8 digits)"
 
 
 def run(fill: float, cells: int, surface: str) -> dict:
@@ -103,9 +113,12 @@ def figure(cases, extrapolated, fills, cells, path) -> None:
         keys = sorted(REFERENCE, key=float)
         axes[0].plot([float(k) for k in keys], [REFERENCE[k] for k in keys], "ks", mfc="none",
                      ms=9, label=REFERENCE_SOURCE)
-    for key in ("0.3", "0.7"):
-        axes[0].plot(float(key), INTERFOAM[key]["lambda1"], "rx", ms=9,
-                     label="OpenFOAM interFoam (time domain)" if key == "0.3" else None)
+    if REFERENCE_MASS:
+        keys = sorted(REFERENCE_MASS, key=float)
+        axes[1].plot([float(k) for k in keys], [REFERENCE_MASS[k] for k in keys], "ks",
+                     mfc="none", ms=9, label=REFERENCE_SOURCE)
+    axes[0].plot([p["fill"] for p in INTERFOAM], [p["lambda1"] for p in INTERFOAM], "rx",
+                 ms=9, ls="none", label="OpenFOAM interFoam (time domain)")
     axes[0].set_ylabel("lambda1 = omega$^2$ R / g")
     axes[1].set_ylabel("first slosh mass / liquid mass")
     axes[1].set_xlabel("tank fraction V / (4/3 pi R$^3$)")
