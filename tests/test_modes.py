@@ -15,6 +15,7 @@ from fsi.analysis.extrapolation import observed_order, richardson
 from fsi.constants import STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY
 from fsi.slosh.analysis import fit_free_decay
 from fsi.slosh.limp import HeightSurface
+from fsi.procedures import PROCEDURES
 from fsi.slosh.modal import lateral_pairs, modal_slosh
 
 G = STANDARD_GRAVITY
@@ -290,3 +291,16 @@ def test_the_sphere_table_extrapolates_within_a_percent(fill):
         h.append(tank_spacing(R, cells, axisymmetric=False))
     assert richardson(lam[0], lam[1], h[0], h[1], 2.0) == pytest.approx(SPHERE_LAMBDA1[fill],
                                                                          rel=0.01)
+
+
+def test_a_modes_run_refuses_more_modes_than_its_grid_resolves():
+    """More modes than a quarter of the columns the surface spans: one line naming
+    modes.count and the most allowed, before anything runs."""
+    from fsi.registry import SceneError
+    from fsi.setup.build import build
+    from fsi.scene import load_scene
+
+    scene = load_scene("modes-by-fill").with_keys({"modes": {"fills": [0.5], "count": 40},
+                                                   "fluid": {"cells": 8}})
+    with pytest.raises(SceneError, match=r"modes.count' = 40.*at most 4 modes"):
+        PROCEDURES["modes"].check_setup(build(scene))

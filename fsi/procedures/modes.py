@@ -43,6 +43,9 @@ MODE_SURFACES = {"limp": "the slack diaphragm: the liquid's free surface under g
                  "tensioned": "a massless flat membrane of uniform tension modes.tension "
                               "lying on the level, pinned where it meets the wall"}
 """modes.surface -> what it is."""
+MODES_PER_COLUMN = 0.25
+"""Most modes asked per column of fluid cells the surface spans: the highest of them are
+resolved by two columns per half wave at best."""
 
 
 def _fills(v) -> bool:
@@ -83,6 +86,7 @@ def check_setup(setup) -> None:
     radius = scene["tank"]["radius"]
     tank = SphericalTank(radius)
     h = 2 * radius / (scene["fluid"]["cells"] - 3)
+    count = scene["modes"]["count"]
     for fill in scene["modes"]["fills"]:
         level = tank.level_holding(fill * tank_volume(radius))
         depth = min(radius + level, radius - level)
@@ -91,6 +95,12 @@ def check_setup(setup) -> None:
                              f"is {depth / h:.2f} fluid cells deep at fluid.cells = "
                              f"{scene['fluid']['cells']} (allowed at least "
                              f"{MIN_DEPTH_CELLS:g}); refine the grid")
+        columns = int(np.pi * (radius**2 - level**2) / h**2)
+        if count > MODES_PER_COLUMN * columns:
+            raise SceneError(f"scene key 'modes.count' = {count}: the surface at tank fraction "
+                             f"{fill} spans about {columns} columns of fluid cells, allowed "
+                             f"at most {int(MODES_PER_COLUMN * columns)} modes; refine the "
+                             f"grid (fluid.cells)")
 
 
 def fill_modes(setup, fill: float, count: int):
