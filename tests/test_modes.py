@@ -304,3 +304,47 @@ def test_a_modes_run_refuses_more_modes_than_its_grid_resolves():
                                                    "fluid": {"cells": 8}})
     with pytest.raises(SceneError, match=r"modes.count' = 40.*at most 4 modes"):
         PROCEDURES["modes"].check_setup(build(scene))
+
+
+def test_the_flat_diaphragms_first_mode_is_the_time_domains():
+    """The flat diaphragm held by its rim ring (``membrane.shape = "disc"``,
+    ``support = "simply-supported"``), N = 14, at tank fraction 0.52 on 16^3 cells: its
+    tangent stiffness about the loaded equilibrium and the liquid's added mass give the
+    first lateral mode within 3 % of the coupled time domain's on the same grids (3.1590 Hz
+    with 47.3 % of the contents as slosh mass: docs/notes/lateral-compliance.md, 'Coupled
+    modes, rim ring only'; measured 3.0880 Hz, -2.2 %, and 47.4 %; the other grids in
+    docs/data/diaphragm_modes.json). The loaded sheet has no direction of negative
+    stiffness, and its lateral pair comes out rotated to x and y."""
+    from fsi.scene import load_scene
+    from fsi.setup.build import build
+    from fsi.procedures.modes import diaphragm_modes
+
+    setup = build(load_scene("slosh-diaphragm").with_keys(
+        {"membrane": {"grid_size": 14, "shape": "disc", "support": "simply-supported"}}))
+    found = diaphragm_modes(setup, 0.52, 16, 4)
+    assert found.converged and found.unstable == 0
+    frequency = np.sqrt(found.omega2) / (2 * np.pi)
+    assert frequency[0] == pytest.approx(3.1590, rel=0.03)
+    assert found.slosh_mass[0] / found.mass == pytest.approx(0.473, abs=0.015)
+    assert found.lateral[:2].all() and abs(found.direction_deg[0]) < 1.0
+    assert abs(found.direction_deg[1]) > 89.0 and frequency[1] == pytest.approx(frequency[0],
+                                                                                 rel=0.01)
+
+
+def test_a_modes_run_of_the_diaphragm_records_its_first_mode():
+    """``modes.surface = "diaphragm"`` through the procedure: one fill record with the
+    first lateral mode, its slosh mass, the equilibrium converged, no negative stiffness,
+    and no surface shapes (the diaphragm's modes are node displacements)."""
+    from fsi.scene import load_scene
+    from fsi.setup.build import build
+
+    scene = load_scene("modes-by-fill").with_keys(
+        {"modes": {"fills": [0.52], "surface": "diaphragm", "count": 4},
+         "membrane": {"grid_size": 10, "shape": "disc", "support": "simply-supported"},
+         "fluid": {"cells": 12}})
+    result = PROCEDURES["modes"](build(scene), lambda fraction, message: None)
+    fills = result.groups["fills"]
+    assert bool(fills["converged"][0]) and int(fills["unstable_directions"][0]) == 0
+    assert 2.5 < float(fills["frequency_hz"][0]) < 3.6
+    assert 0.1 < float(fills["slosh_mass_fraction"][0]) < 0.6
+    assert "shapes" not in result.groups and len(result.groups["modes"]["mode"]) == 4

@@ -2,8 +2,9 @@
 
 * ``modes_by_fill.png``: the first lateral mode's lambda1 = omega^2 R / g, its slosh mass
   fraction and the heights of its slosh mass and hinge (over R) against the tank fraction;
-* ``mode_shapes.png``: the surface's elevation in the first modes at the fill nearest half,
-  over the grid's columns (plan view), each titled with its azimuthal order and frequency.
+* ``mode_shapes.png`` (free and tensioned surfaces): the surface's elevation in the first
+  modes at the fill nearest half, over the grid's columns (plan view), each titled with its
+  azimuthal order and frequency.
 """
 from __future__ import annotations
 
@@ -20,7 +21,10 @@ SHAPES_SHOWN = 6
 
 @register_plots("modes")
 def modes_plots(res: dict, out: Path) -> list[Path]:
-    return [_by_fill(res, out / "modes_by_fill.png"), _shapes(res, out / "mode_shapes.png")]
+    written = [_by_fill(res, out / "modes_by_fill.png")]
+    if "shapes" in res:  # a surface's elevation (the diaphragm's modes have none)
+        written.append(_shapes(res, out / "mode_shapes.png"))
+    return written
 
 
 def _by_fill(res: dict, path: Path) -> Path:

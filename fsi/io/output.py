@@ -51,7 +51,7 @@ UNITS = {
     "elevation": "m/kg^0.5", "surface_faces": "1", "liquid_mass": "kg",
     "lambda1": "1", "frequency_hz": "Hz", "omega": "rad/s", "slosh_mass_fraction": "1",
     "pendulum_length": "m", "spring_stiffness": "N/m", "static_compliance": "s^2",
-    "modal_compliance": "s^2", "level": "m",
+    "modal_compliance": "s^2", "level": "m", "unstable_directions": "1", "membrane_dofs": "1",
 }
 
 UNIT_PREFIXES = {"deflection_": "m", "centre_deflection_": "m", "valid_": "1"}

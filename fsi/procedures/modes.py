@@ -14,7 +14,9 @@ with an eigenvalue problem instead of a time history.
 * Surface (``modes.surface``): ``limp``, the slack diaphragm, i.e. the free surface with
   gravity; ``tensioned``, a massless flat membrane of uniform tension ``modes.tension`` (N/m)
   lying on the level and pinned where it meets the wall (the hydroelastic model of the
-  closed form it is checked against).
+  closed form it is checked against); ``diaphragm``, the scene's ``[membrane]`` about its
+  static equilibrium at each fill, its tangent stiffness and mass with the liquid's added
+  mass (:mod:`fsi.slosh.hydroelastic`; no surface shapes, no SP-106 height).
 * Per fill (group ``fills``): the first lateral mode's frequency, lambda1 = omega^2 R / g and
   spring-mass equivalent (slosh mass along x, its height, the pendulum and its hinge: the
   names and units of the ``slosh`` procedure's), the first axial mode's frequency, the lateral
@@ -26,22 +28,35 @@ with an eigenvalue problem instead of a time history.
 """
 from __future__ import annotations
 
+import time as _time
+from dataclasses import replace
+
 import numpy as np
 
 from fluid.container import SphericalTank
 from fluid.free_surface import column_index
 from fluid.linear import single_blas_thread
+from fluid.model import FluidModel
+from fluid.solver import FluidSolver
+from fluid.tank import tank_grid
+from structure.newton.window import settled
 from structure.volume import tank_volume
+from structure.xpbd import XpbdModel, XpbdSettings
 
 from fsi.lifecycle import Progress, Run, RunResult
 from fsi.registry import Key, Procedure, SceneError, Table, one_of, register_procedure
+from fsi.setup.models import XPBD_DYNAMIC_SWEEPS, hydrostatic_load, statics_substep
+from fsi.slosh.hydroelastic import DiaphragmModes, coupled_modes
 from fsi.slosh.modal import tank_modes
-from fsi.procedures.coupled import FLUID
+from fsi.procedures.coupled import FLUID, membrane_surface
+from fsi.procedures.coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
 from fsi.procedures.slosh import MIN_DEPTH_CELLS
 
 MODE_SURFACES = {"limp": "the slack diaphragm: the liquid's free surface under gravity",
                  "tensioned": "a massless flat membrane of uniform tension modes.tension "
-                              "lying on the level, pinned where it meets the wall"}
+                              "lying on the level, pinned where it meets the wall",
+                 "diaphragm": "the [membrane] at its loaded equilibrium: its tangent "
+                              "stiffness and mass, the liquid's added mass"}
 """modes.surface -> what it is."""
 MODES_PER_COLUMN = 0.25
 """Most modes asked per column of fluid cells the surface spans: the highest of them are
@@ -57,9 +72,10 @@ MODES = Table({
     "fills": Key(list, [0.5], _fills, "non-empty list of numbers in (0, 1)",
                  "tank fractions V / (4/3 pi R^3) of the liquid at rest"),
     "surface": Key(str, "limp", *one_of(MODE_SURFACES),
-                   "the diaphragm model: limp (slack: the free surface under gravity) or "
+                   "the diaphragm model: limp (slack: the free surface under gravity), "
                    "tensioned (a massless flat membrane of uniform tension modes.tension on "
-                   "the level, pinned at the wall)"),
+                   "the level, pinned at the wall) or diaphragm (the [membrane] about its "
+                   "loaded equilibrium, with the liquid's added mass)"),
     "tension": Key(float, 0.0, lambda v: 0 <= v <= 1e6, "0..1e6 N/m",
                    "tensioned: the membrane's uniform tension (N/m)"),
     "count": Key(int, 8, lambda v: 1 <= v <= 40, "1..40",
@@ -140,6 +156,75 @@ def fill_modes(setup, fill: float, count: int):
     return record, records, dict(tank_fraction=fill, elevation=shape)
 
 
+def diaphragm_modes(setup, fill: float, cells: int, count: int) -> DiaphragmModes:
+    """The first ``count`` modes of the scene's membrane over the liquid at tank fraction
+    ``fill`` on ``cells`` fluid cells (:func:`fsi.slosh.hydroelastic.coupled_modes`): its
+    static start as the slosh procedure's (the statics' XPBD relaxation with the slosh
+    keys' defaults), settled under the Newton model's energies. ``seconds`` is the whole."""
+    tic = _time.perf_counter()
+    radius = setup.model.radius
+    volume = fill * tank_volume(radius)
+    xpbd = XpbdModel.from_membrane(setup.model)
+    settings = XpbdSettings(dt=statics_substep(setup), iterations=XPBD_DYNAMIC_SWEEPS,
+                            warm_start=False, tolerance=START_TOLERANCE,
+                            max_steps=START_MAX_STEPS)
+    state, info = static_equilibrium(setup, xpbd, settings, volume)
+    load = hydrostatic_load(setup.liquid, volume_target=volume,
+                            pressure_level=info.pressure_level)
+    state, equilibrium = settled(xpbd, state, load)
+    model = FluidModel(grid=tank_grid(radius, cells, axisymmetric=False),
+                       container=SphericalTank(radius), density=setup.liquid.density,
+                       viscosity=0.0,
+                       body_acceleration=np.asarray(setup.liquid.body_acceleration, float))
+    geometry = FluidSolver(model, membrane_surface(setup, xpbd, model).of(state)).state.geometry
+    found = coupled_modes(xpbd, state, equilibrium, load, model, geometry, count)
+    return replace(found, seconds=_time.perf_counter() - tic)
+
+
+def diaphragm_fill_modes(setup, fill: float, count: int):
+    """The modes of the scene's membrane about its loaded equilibrium at tank fraction
+    ``fill`` (:func:`fsi.slosh.hydroelastic.diaphragm_modes`; its static start as the slosh
+    procedure's): (the fill's record, the modes' records, None: no surface shapes)."""
+    found = diaphragm_modes(setup, fill, setup.scene["fluid"]["cells"], count)
+    radius = setup.model.radius
+    gravity = -float(setup.liquid.body_acceleration[2])
+    omega = np.sqrt(found.omega2)
+    records = [dict(tank_fraction=fill, mode=j + 1, azimuthal_order=-1,
+                    direction_deg=float(found.direction_deg[j]),
+                    frequency_hz=float(omega[j] / (2 * np.pi)), omega=float(omega[j]),
+                    eigenvalue=float(found.omega2[j] * radius / gravity),
+                    slosh_mass=float(found.slosh_mass[j]),
+                    slosh_mass_fraction=float(found.slosh_mass[j] / found.mass),
+                    lateral_mass=float(found.lateral_mass[j]), slosh_mass_height=np.nan,
+                    pendulum_length=float(gravity / found.omega2[j]), hinge_height=np.nan,
+                    spring_stiffness=float(found.slosh_mass[j] * found.omega2[j]))
+               for j in range(len(omega))]
+    along = np.flatnonzero(found.lateral & (found.slosh_mass > 0.5 * found.lateral_mass))
+    j = int(along[0]) if len(along) else None
+    level = SphericalTank(radius).level_holding(fill * tank_volume(radius))
+
+    def of_first(name):
+        return records[j][name] if j is not None else np.nan
+
+    record = dict(
+        tank_fraction=fill, level=level, liquid_mass=found.mass, centre_height=np.nan,
+        lambda1=of_first("eigenvalue"),
+        **{name: of_first(name) for name in ("frequency_hz", "omega", "slosh_mass",
+                                             "slosh_mass_fraction", "slosh_mass_height",
+                                             "pendulum_length", "hinge_height")},
+        axial_frequency_hz=np.nan,
+        modal_compliance=float(np.sum(found.slosh_mass[found.lateral]
+                                      / found.omega2[found.lateral]) / found.mass),
+        static_compliance=np.nan, surface_faces=0, wall_seconds=found.seconds,
+        unstable_directions=found.unstable, membrane_dofs=found.dofs,
+        start_pressure_level=found.level, converged=found.converged)
+    return record, records, None
+
+
+FILL_MODES = {"limp": fill_modes, "tensioned": fill_modes, "diaphragm": diaphragm_fill_modes}
+"""modes.surface -> the function giving one fill's records."""
+
+
 def _column_shapes(model, modes, elevation: np.ndarray, count: int) -> np.ndarray:
     """(nx, ny, count) m per sqrt(kg): each mode's ``elevation`` (k, n) over the grid's
     columns (NaN
@@ -159,11 +244,12 @@ def modes(setup, progress: Progress) -> RunResult:
     run = Run(progress, len(fills))
     with single_blas_thread():
         for k, fill in enumerate(fills):
-            record, records, shape = fill_modes(setup, fill, table["count"])
+            record, records, shape = FILL_MODES[table["surface"]](setup, fill, table["count"])
             run.record("fills", record)
             for r in records:
                 run.record("modes", r)
-            run.record("shapes", shape)
+            if shape is not None:
+                run.record("shapes", shape)
             run.progress(k + 1, f"tank fraction {fill:.3f}: lambda1 {record['lambda1']:.4f}")
     first = run.groups["fills"][0]
     headline = {k: first[k] for k in ("tank_fraction", "lambda1", "frequency_hz",
@@ -193,6 +279,7 @@ PROCEDURE = register_procedure(Procedure(
             "lambda, spring-mass equivalent, mode shapes",
     run=modes,
     tables={"modes": MODES, "fluid": FLUID},
+    membrane_shapes=("hemisphere", "disc"),
     check_setup=check_setup,
     report=report,
     headline=report,

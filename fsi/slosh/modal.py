@@ -97,8 +97,8 @@ def azimuthal_order(point: np.ndarray, area: np.ndarray, elevation: np.ndarray,
 
 
 def lateral_pairs(omega2: np.ndarray, vectors: np.ndarray, participation: np.ndarray,
-                  stiffness: np.ndarray | None = None):
-    """Rotate each pair of modes closer than ``PAIR_RTOL`` in omega^2 whose participations
+                  stiffness: np.ndarray | None = None, rtol: float = PAIR_RTOL):
+    """Rotate each pair of modes closer than ``rtol`` in omega^2 whose participations
     (n, 2) both reach the lateral directions into the one along x and the one along y.
     ``vectors`` (..., n) the modes' fields (any number of leading axes, each mode's field on
     the last). Returns (omega2 (n,), vectors, participation (n, 2), stiffness (n,)), the
@@ -110,7 +110,7 @@ def lateral_pairs(omega2: np.ndarray, vectors: np.ndarray, participation: np.nda
     j = 0
     while j < len(omega2) - 1:
         k = j + 1
-        close = abs(omega2[k] - omega2[j]) <= PAIR_RTOL * abs(omega2[j])
+        close = abs(omega2[k] - omega2[j]) <= rtol * abs(omega2[j])
         norms = np.linalg.norm(participation[[j, k]], axis=1)
         if not (close and np.all(norms > 1e-9 * max(norms.max(), 1e-300))):
             j += 1
