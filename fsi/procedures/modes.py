@@ -120,8 +120,9 @@ def check_setup(setup) -> None:
 
 
 def fill_modes(setup, fill: float, count: int):
-    """The modes of the limp surface at tank fraction ``fill``: (the fill's record, the
-    modes' records, the shapes' record)."""
+    """The modes of the limp (or tensioned) surface at tank fraction ``fill``: (the fill's
+    record, the modes' records, the shapes' record). The static compliance |z_c| / g is the
+    free surface's (NaN under a membrane)."""
     body = np.asarray(setup.liquid.body_acceleration, dtype=float)
     gravity = -float(body[2])
     found = tank_modes(setup.model.radius, fill, setup.scene["fluid"]["cells"],
@@ -150,7 +151,8 @@ def fill_modes(setup, fill: float, count: int):
                                              "pendulum_length", "hinge_height")},
         axial_frequency_hz=axial.frequency_hz if axial is not None else np.nan,
         modal_compliance=sum(e.slosh_mass / e.omega**2 for e in lateral) / mass,
-        static_compliance=abs(found.centre_height) / gravity,
+        static_compliance=(abs(found.centre_height) / gravity
+                           if setup.scene["modes"]["tension"] == 0 else np.nan),
         surface_faces=len(found.modes.faces), wall_seconds=found.seconds)
     shape = _column_shapes(found.model, found.modes, found.elevation, count)
     return record, records, dict(tank_fraction=fill, elevation=shape)
