@@ -7,7 +7,8 @@ BUDGET_SECONDS.
 
 Prints one JSON object (wall seconds of the test command, its summary line, the cores, the
 budget and the ratio to it); the documentation's install page reads the full run's
-``docs/data/suite_time.json``. ``--smoke`` times ``pytest -q tests/test_architecture.py`` in
+``docs/data/suite_time.json``, written only when the suite passed (a failed or stopped suite
+exits with its status and leaves the file as it was). ``--smoke`` times ``pytest -q tests/test_architecture.py`` in
 this environment instead (seconds), the same timing and parsing.
 """
 from __future__ import annotations
@@ -64,7 +65,9 @@ def main() -> int:
     record = {"wall_seconds": round(wall, 1), "summary": summary, "exit_code": code,
               "budget_seconds": BUDGET_SECONDS, "ratio_to_budget": round(wall / BUDGET_SECONDS, 3),
               "cores": os.cpu_count(), "command": "python -m pytest -q"}
-    emit("suite_time", record, args.smoke)
+    # a suite that failed or was stopped measured nothing the documentation can quote: its
+    # JSON is printed, not written into docs/data
+    emit("suite_time", record, args.smoke or code != 0)
     return code
 
 
