@@ -50,6 +50,7 @@ def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
      "split_unconverged = 'window'", "coupling.split_unconverged", "allowed: 'parts'"),
     ("[dynamics]\nstart_fill = 1.0", "dynamics.start_fill", "0 < value < 1"),
     ("[fluid]\ncells = 4", "fluid.cells", "8..128"),
+    ("[fluid]\nlevel_plane = 'cells'", "fluid.level_plane", "'faces'"),
     ("[scene]\nprocedure = 'coupled-fill'\n[structure]\nmodel = 'shell'", "structure.model",
      "'xpbd'"),
     ("[scene]\nprocedure = 'coupled-fill'\n[dynamics]\nwindow = 1e-7\nend_time = 1.0",
@@ -59,6 +60,16 @@ def test_bad_scene_raises_naming_key_and_range(text, key, allowed):
     with pytest.raises(SceneError) as err:
         parse_scene(text)
     assert key in str(err.value) and allowed in str(err.value)
+
+
+def test_a_plane_of_faces_at_the_level_is_refused_under_a_membrane():
+    """fluid.level_plane moves the grid under a free surface only: a coupled fill (the liquid
+    under the membrane) refuses it before running, naming the key."""
+    from fsi.setup.build import build
+
+    scene = parse_scene("[scene]\nprocedure = 'coupled-fill'\n[fluid]\nlevel_plane = 'faces'\n")
+    with pytest.raises(SceneError, match=r"fluid\.level_plane.*allowed: 'anywhere'"):
+        build(scene)
 
 
 def test_unresolved_port_raises_before_running():

@@ -92,6 +92,8 @@ def test_contents_response_of_a_moving_point_mass():
     ("[liquid]\nbody_acceleration = [1.0, 0.0, -9.81]", "liquid.body_acceleration"),
     ("[fluid]\nconvection = 'central'", "fluid.convection"),
     ("[slosh]\nsurface = 'linear'\n[fluid]\nconvection = 'upwind'", "fluid.convection"),
+    ("[fluid]\nlevel_plane = 'centres'", "fluid.level_plane"),
+    ("[slosh]\nsurface = 'diaphragm'\n[fluid]\nlevel_plane = 'faces'", "fluid.level_plane"),
 ])
 def test_bad_slosh_scene_is_named(text, key):
     with pytest.raises(SceneError, match=key.replace(".", r"\.")):
@@ -172,6 +174,24 @@ def test_short_slosh_run(tmp_path):
     assert a["modal_compliance"] == pytest.approx(a["static_compliance"], rel=0.05)
     assert a["frequency_hz"] < a["first_mode_bound_hz"]
     assert "slosh.png" in {p.name for p in (out / "plots").iterdir()}
+
+
+def test_the_linear_surface_on_a_plane_of_faces_steps_the_modes_rung():
+    """fluid.level_plane = "faces": the slosh procedure's linear surface at tank fraction 0.3
+    on 12^3 cells runs on the modes rung's grid (a plane of faces at the level,
+    :func:`fsi.slosh.modal.tank_modes`) and swings at its first lateral mode within 1 %:
+    the step is that eigenproblem's Stormer-Verlet integrator (O((omega dt)^2))."""
+    from fsi.slosh.modal import tank_modes
+
+    scene = parse_scene("[scene]\nprocedure = 'slosh'\n[slosh]\nsurface = 'linear'\n"
+                        "fill = 0.3\nwindow = 0.002\nend_time = 3.0\nanalysis_start = 0.15\n"
+                        "[motion]\nkind = 'impulse'\namplitude = [0.5, 0.0, 0.0]\n"
+                        "duration = 0.1\n[fluid]\ncells = 12\nviscosity = 0.0\n"
+                        "convection = 'none'\nlevel_plane = 'faces'\n")
+    setup = build(scene)
+    result = PROCEDURES["slosh"](setup, lambda fraction, message: None)
+    modes = tank_modes(R, 0.3, 12, setup.liquid.density, setup.liquid.body_acceleration, 8)
+    assert result.attrs["lambda1"] == pytest.approx(modes.first("lateral").lambda1, rel=0.01)
 
 
 def test_the_linearised_liquid_keeps_the_limp_slosh_energy(tmp_path):

@@ -164,6 +164,9 @@ FLUID_CONVECTIONS = {"upwind": True, "none": False}
 FLUID_VOLUMES = {"cut-cells": False, "membrane": True}
 """fluid.volume: whether the cut cells are matched to the membrane's exact liquid volume."""
 
+LEVEL_PLANES = {"anywhere": False, "faces": True}
+"""fluid.level_plane: whether a free surface's grid has a plane of faces at the start level."""
+
 FLUID = Table({
     "cells": Key(int, 16, lambda v: 8 <= v <= 128, "8..128",
                  "cells per axis of the 3-D grid over the tank"),
@@ -207,6 +210,16 @@ FLUID = Table({
                         "centres) or tapered (the same times a factor that falls to zero at "
                         "the block's edge: continuous in the point's position; "
                         "docs/notes/stalled-windows.md)"),
+    "level_plane": Key(str, "anywhere", *one_of(list(LEVEL_PLANES)),
+                       "where the grid's planes of faces lie against a free surface's level "
+                       "(slosh.surface = limp or linear): anywhere (the tank's own grid, the "
+                       "level between two planes wherever the fill puts it: lambda1 scatters "
+                       "by +-2 % with the fill on 24^3 cells) or faces (the grid moved down by "
+                       "less than a cell so that a plane of faces lies at the start level, "
+                       "the modes rung's grid: second order at every fill for the linear "
+                       "surface; the limp surface then crosses that plane every half period, "
+                       "and at tank fraction 0.2 a mode at the rim grows; "
+                       "docs/notes/level-between-planes.md)"),
     "centre_cells": Key(str, "iteration", *one_of(list(CENTRE_CELLS)),
                         "which cells carry the liquid's velocity in a window's coupling "
                         "iterations: iteration (those whose centre is in the liquid, anew at "
@@ -459,8 +472,19 @@ def check_coupled_fill(setup) -> None:
     (:func:`check_start_grid`)."""
     check_port(setup)
     check_interface_velocity(setup.scene)
+    check_level_plane(setup.scene, "under the membrane of a coupled fill")
     check_node_damping(setup.scene)
     check_start_grid(setup.scene, "dynamics")
+
+
+def check_level_plane(scene, where: str) -> None:
+    """``fluid.level_plane`` moves the grid under a free surface only: refused ``where`` the
+    liquid is under a membrane."""
+    value = scene["fluid"]["level_plane"]
+    if LEVEL_PLANES[value]:
+        raise SceneError(f"scene key 'fluid.level_plane' = {value!r} moves the grid under a "
+                         f"free surface (slosh.surface = 'limp' or 'linear'); {where} allowed: "
+                         f"'anywhere'")
 
 
 def check_start_grid(scene, table: str) -> None:

@@ -52,10 +52,11 @@ from fsi.slosh.lateral_compliance import (DEFAULT_TILT, Compliance, contents_cen
                                           static_compliance)
 from fsi.lifecycle import Run
 from fsi.setup.models import hydrostatic_load, statics_substep
-from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity, check_start_grid,
-                                    coupling_settings, fluid_convection, fluid_participant,
-                                    implicit_window, membrane_surface, window_settings,
-                                    window_start, window_substep)
+from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity,
+                                    check_level_plane, check_start_grid, coupling_settings,
+                                    fluid_convection, fluid_participant, implicit_window,
+                                    membrane_surface, window_settings, window_start,
+                                    window_substep)
 from fsi.procedures.coupled_fill import START_MAX_STEPS, static_equilibrium
 from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
@@ -263,6 +264,7 @@ class DiaphragmWindows(SurfaceWindows):
     @classmethod
     def check(cls, scene) -> None:
         check_interface_velocity(scene)
+        check_level_plane(scene, "with slosh.surface = 'diaphragm'")
         check_start_grid(scene, "slosh")
 
     def step(self, run: Run) -> None:

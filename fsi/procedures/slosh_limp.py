@@ -25,7 +25,7 @@ from fsi.slosh.lateral_compliance import Compliance, free_surface_compliance
 from fsi.slosh.limp import HeightSurface, advance_heights
 from fsi.lifecycle import Run
 from fsi.registry import SceneError
-from fsi.procedures.coupled import FLUID, fluid_convection
+from fsi.procedures.coupled import FLUID, LEVEL_PLANES, fluid_convection
 from fsi.procedures.slosh_surfaces import Contents, Start, SurfaceWindows, register_surface
 
 log = logging.getLogger(__name__)
@@ -80,7 +80,9 @@ class LimpWindows(SurfaceWindows):
         super().__init__(window, n_windows)
         scene = setup.scene
         radius = setup.model.radius
-        grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)
+        on_faces = LEVEL_PLANES[scene["fluid"]["level_plane"]]
+        grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False,
+                         face_at=start.level if on_faces else None)
         self.model = FluidModel(grid=grid, container=start.tank, density=setup.liquid.density,
                                 viscosity=scene["fluid"]["viscosity"], body_acceleration=body,
                                 interface_condition=self.interface_condition,
