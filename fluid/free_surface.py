@@ -138,6 +138,27 @@ def surface_of(model: FluidModel, geometry: Geometry) -> Surface:
     return Surface(wet, faces, cell, first, theta, point, view)
 
 
+def measured_state(model: FluidModel, state: FluidState) -> FluidState:
+    """``state`` with the geometry :mod:`fluid.measures` weighs its faces by when the level
+    lies on a plane of faces (``tank_grid(..., face_at=level)``): the step's own view
+    (:func:`surface_of`), each surface face carrying the liquid between its wet centre and
+    the surface only (theta of its centre distance).
+
+    The liquid's vertical momentum is then rho sum_s F_s z_s over the surface faces' fluxes
+    F_s and crossings z_s, the rate of rho int z dV, and its centre of mass rises by the
+    surface's potential energy over its weight (within 11 % on 12^3 cells). Weighed by the
+    liquid fraction, a surface face on the plane flips between carrying nothing and a whole
+    cell as the surface crosses it, and the vertical force on the tank drifts from the
+    contents' weight by 0.2 % on 12^3 cells. With the level between two planes the liquid
+    fraction is the better weight (the surface stays in one layer; with this view the moment
+    about a sphere's centre, which vanishes, grows from 4 % to 7 % of the lateral force
+    times the radius on 12^3 cells)."""
+    surface = surface_of(model, state.geometry)
+    beta = surface.view.face_fraction.copy()
+    beta[surface.faces] *= surface.theta
+    return replace(state, geometry=replace(surface.view, face_fraction=beta))
+
+
 def surface_gradient(model: FluidModel, surface: Surface, cell_values: np.ndarray,
                      boundary: np.ndarray, surface_values: np.ndarray) -> np.ndarray:
     """:func:`fluid.projection.face_gradient` with the surface faces' Dirichlet values

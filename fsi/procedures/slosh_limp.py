@@ -8,6 +8,9 @@ surface.
   (:mod:`fluid.free_surface`).
 * Per window, beside the liquid's measures: the surface's gravitational potential energy
   1/2 rho g sum A_i (h_i - z0)^2 (J), A_i the part of node i's column inside the tank.
+* ``fluid.level_plane = "faces"``: the grid moved so that a plane of faces lies at the start
+  level, and the measures taken on the step's own face fractions with each surface face
+  carrying the liquid below the surface only (:func:`fluid.free_surface.measured_state`).
 """
 from __future__ import annotations
 
@@ -15,7 +18,7 @@ import logging
 
 import numpy as np
 
-from fluid.free_surface import column_rates, surface_of
+from fluid.free_surface import column_rates, measured_state, surface_of
 from fluid.measures import angular_momentum, dissipation_rate, kinetic_energy, momentum
 from fluid.model import FluidModel
 from fluid.solver import FluidSolver
@@ -80,9 +83,9 @@ class LimpWindows(SurfaceWindows):
         super().__init__(window, n_windows)
         scene = setup.scene
         radius = setup.model.radius
-        on_faces = LEVEL_PLANES[scene["fluid"]["level_plane"]]
+        self.on_faces = LEVEL_PLANES[scene["fluid"]["level_plane"]]
         grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False,
-                         face_at=start.level if on_faces else None)
+                         face_at=start.level if self.on_faces else None)
         self.model = FluidModel(grid=grid, container=start.tank, density=setup.liquid.density,
                                 viscosity=scene["fluid"]["viscosity"], body_acceleration=body,
                                 interface_condition=self.interface_condition,
@@ -105,6 +108,8 @@ class LimpWindows(SurfaceWindows):
         """Records the ``windows`` record at time ``t`` (s) in ``run``."""
         model, state = self.model, self.fluid.state
         free = surface_of(model, state.geometry).faces if model.viscosity > 0 else None
+        if self.on_faces:
+            state = measured_state(model, state)
         run.record("windows", dict(
             time=t, momentum=momentum(model, state),
             angular_momentum=angular_momentum(model, state),
