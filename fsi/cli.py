@@ -137,13 +137,15 @@ def read_run(path) -> dict:
 
     try:
         res = read_result(path)
-        if not ("frames" in res and "node_position" in res["frames"]) and "radius" not in \
-                res["attrs"]:
-            raise KeyError("no frames and no radius")
     except FileNotFoundError:
         raise
-    except (OSError, KeyError, ValueError) as err:
+    except ValueError as err:  # HDF5, not a result: the message names the file
+        raise UsageError(str(err)) from None
+    except OSError as err:
         raise UsageError(f"'{path}' is not a slosh-fsi result ({err})") from None
+    if not ("frames" in res and "node_position" in res["frames"]) and "radius" not in \
+            res["attrs"]:
+        raise UsageError(f"'{path}' is not a slosh-fsi result (no frames and no radius)")
     return res
 
 

@@ -52,6 +52,13 @@ def test_a_static_sweep_writes_units_version_and_its_draining_leg(tmp_path, tiny
     shown = capsys.readouterr().out
     assert "scene tiny, procedure volume-sweep" in shown and "drain: 2 records" in shown
     assert software_version() in shown
+    # an HDF5 file that is not a result (the XDMF's heavy data) is refused in one line
+    heavy = next(p for p in out.glob("*.h5") if p.name != "result.h5")
+    for command in (["compare", str(out), str(heavy)], ["show", str(heavy)],
+                    ["compare", str(heavy), str(out)]):
+        assert main(command) == 2, command
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and str(heavy) in err and "not a result" in err
 
 
 def test_only_our_own_info_lines_by_default(tmp_path):

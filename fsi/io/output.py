@@ -193,8 +193,14 @@ def _write_xdmf(folder: Path, model, frames: dict, name: str) -> None:
         os.chdir(cwd)
 
 
+RESULT_ATTRS = ("procedure", "scene")
+"""The attributes every ``result.h5`` carries: what tells a result from another HDF5 file."""
+
+
 def read_result(path) -> dict:
-    """Read ``result.h5`` (a file or the run folder) into {"attrs", "membrane", groups...}."""
+    """Read ``result.h5`` (a file or the run folder) into {"attrs", "membrane", groups...};
+    ValueError naming the file when it is HDF5 but not a result (no :data:`RESULT_ATTRS`,
+    or a top-level item that is not a group of datasets), OSError when it is not HDF5."""
     path = Path(path)
     if path.is_dir():
         path = path / RESULT_FILE
@@ -202,7 +208,15 @@ def read_result(path) -> dict:
         raise FileNotFoundError(f"no result file at '{path}'")
     out: dict = {}
     with h5py.File(path, "r") as f:
+        missing = [k for k in RESULT_ATTRS if k not in f.attrs]
+        if missing:
+            raise ValueError(f"'{path}' is not a result file: no {', '.join(missing)} "
+                             f"attribute")
         out["attrs"] = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
         for name, grp in f.items():
+            if not isinstance(grp, h5py.Group) or \
+                    not all(isinstance(ds, h5py.Dataset) for ds in grp.values()):
+                raise ValueError(f"'{path}' is not a result file: '{name}' is not a group of "
+                                 f"datasets")
             out[name] = {k: ds[()] for k, ds in grp.items()}
     return out
