@@ -84,8 +84,8 @@ def prepare(args):
     and validated before anything is computed; with ``--resume`` the checkpoint read, and the
     checkpoint file set when the scene asks for checkpoints."""
     from fsi.setup.build import build
-    from fsi.io.checkpoint import (CHECKPOINT_FILE, read as read_checkpoint, wanted as
-                                   wants_checkpoints)
+    from fsi.io.checkpoint import (CHECKPOINT_FILE, CheckpointRefused, read as read_checkpoint,
+                                   wanted as wants_checkpoints)
     from fsi.io.run_folder import RunFolder
     from fsi.scene import load_scene
 
@@ -93,7 +93,10 @@ def prepare(args):
     scene = load_scene(args.scene)
     setup = build(scene)  # validates the time step before anything is written
     if args.resume:
-        setup = dataclasses.replace(setup, resume=read_checkpoint(folder.checkpoint()))
+        try:
+            setup = dataclasses.replace(setup, resume=read_checkpoint(folder.checkpoint()))
+        except CheckpointRefused as err:
+            raise UsageError(str(err)) from None
         if setup.resume.get("scene") != scene.text:
             raise UsageError(f"--resume: the checkpoint in '{folder.stage()}' is of another "
                              f"scene text than '{args.scene}'")

@@ -84,6 +84,63 @@ def test_resume_without_a_checkpoint_is_one_line(tmp_path, capsys):
     assert "no checkpoint" in capsys.readouterr().err
 
 
+class _Opens:
+    """Unpickled, it creates the file ``path``: what a forged checkpoint could do."""
+
+    def __init__(self, path):
+        self.path = str(path)
+
+    def __reduce__(self):
+        return (open, (self.path, "w"))
+
+
+def test_a_checkpoint_this_users_runs_did_not_write_is_refused_unread(tmp_path, capsys,
+                                                                    monkeypatch):
+    """--resume refuses, before unpickling it, a checkpoint without this user's HMAC (a
+    pickle from elsewhere could run code): one line naming the file, exit 2, and the
+    forged pickle's code has not run."""
+    import pickle
+
+    from fsi.cli import main
+
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    scene = tmp_path / "ck.toml"
+    scene.write_text(SCENE)
+    out = tmp_path / "run"
+    out.mkdir()
+    marker = tmp_path / "ran"
+    (out / "checkpoint.pkl").write_bytes(pickle.dumps({"scene": SCENE, "x": _Opens(marker)}))
+    assert main(["run", str(scene), "--out", str(out), "--resume"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "checkpoint.pkl" in err and "HMAC" in err
+    assert not marker.exists()
+
+
+def test_checkpoint_hmac_round_trip_other_key_and_tampering(tmp_path, monkeypatch):
+    """A checkpoint reads back under the key that wrote it (made on the first write, mode
+    0600); under another user's key, or with one byte of its pickle changed, it is refused."""
+    import stat
+
+    from fsi.io import checkpoint
+
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "a"))
+    path = tmp_path / "checkpoint.pkl"
+    checkpoint.write(path, {"k": np.arange(3)})
+    assert stat.S_IMODE(checkpoint.key_path().stat().st_mode) == 0o600
+    assert np.array_equal(checkpoint.read(path)["k"], np.arange(3))
+    blob = bytearray(path.read_bytes())
+    blob[-5] ^= 1
+    (tmp_path / "tampered.pkl").write_bytes(bytes(blob))
+    with pytest.raises(checkpoint.CheckpointRefused, match="tampered.pkl"):
+        checkpoint.read(tmp_path / "tampered.pkl")
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "b"))
+    with pytest.raises(checkpoint.CheckpointRefused, match="HMAC"):
+        checkpoint.read(path)                  # no key of this user's yet
+    checkpoint.write(tmp_path / "other.pkl", {})
+    with pytest.raises(checkpoint.CheckpointRefused):
+        checkpoint.read(path)                  # another key
+
+
 def test_checkpoints_fall_due_by_count_or_by_wall_time(monkeypatch):
     from fsi.io import checkpoint
 

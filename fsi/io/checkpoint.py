@@ -16,14 +16,62 @@ complete.  The thesis ramp does the same with ``thesis.checkpoint_interval`` (st
 windows (:class:`fsi.procedures.slosh.SurfaceWindows`: the liquid, the height surface or the
 membrane and the coupling loop) and the records. Every checkpoint holds the wall seconds run
 so far, which a resumed run's clock counts on from.
+
+Unpickling runs code, so a checkpoint from elsewhere (a results folder copied from another
+machine or user) could run anything. Each checkpoint therefore starts with an HMAC-SHA256 of
+its pickle under a per-user key (:data:`KEY_FILE` in ``$XDG_CONFIG_HOME/slosh-fsi/``, else
+``~/.config/slosh-fsi/``, 32 random bytes made on the first write, readable by the user
+only), and :func:`read` refuses, before unpickling, a file whose HMAC does not match:
+:class:`CheckpointRefused`, one line naming the file. A checkpoint written by another user,
+on another machine or before this check (no HMAC) is refused; its run starts again.
 """
 from __future__ import annotations
 
+import hashlib
+import hmac
 import os
+import secrets
 import time
 from pathlib import Path
 
 CHECKPOINT_FILE = "checkpoint.pkl"
+KEY_FILE = "checkpoint.key"
+MAGIC = b"slosh-fsi checkpoint, HMAC-SHA256 of the pickle after this line:\n"
+
+
+class CheckpointRefused(ValueError):
+    """A checkpoint this user's runs did not write (its HMAC does not match)."""
+
+
+def key_path() -> Path:
+    """The per-user key's file (module doc)."""
+    base = os.environ.get("XDG_CONFIG_HOME") or str(Path.home() / ".config")
+    return Path(base) / "slosh-fsi" / KEY_FILE
+
+
+def user_key(create: bool) -> bytes | None:
+    """The per-user key; made (mode 0600) when absent and ``create``, else None."""
+    path = key_path()
+    if path.is_file():
+        return path.read_bytes()
+    if not create:
+        return None
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f"{KEY_FILE}.{os.getpid()}.tmp")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    with os.fdopen(fd, "wb") as f:
+        f.write(secrets.token_bytes(32))
+    try:
+        os.link(tmp, path)  # the first writer's key wins; never replace a key in use
+    except FileExistsError:
+        pass
+    finally:
+        os.unlink(tmp)
+    return path.read_bytes()
+
+
+def _mac(key: bytes, data: bytes) -> bytes:
+    return hmac.new(key, data, hashlib.sha256).hexdigest().encode("ascii")
 
 
 CHECKPOINT_KEYS = ("checkpoint_interval", "checkpoint_seconds")
@@ -55,20 +103,32 @@ class CheckpointDue:
 
 
 def write(path: Path, payload: dict) -> None:
-    """Pickle ``payload`` to ``path`` atomically (a temporary file renamed over it)."""
+    """Pickle ``payload`` to ``path`` atomically (a temporary file renamed over it), with
+    its HMAC under the user's key in front (module doc)."""
     import cloudpickle
 
+    data = cloudpickle.dumps(payload)
     tmp = path.with_name(path.name + ".tmp")
     with open(tmp, "wb") as f:
-        cloudpickle.dump(payload, f)
+        f.write(MAGIC + _mac(user_key(create=True), data) + b"\n" + data)
         f.flush()
         os.fsync(f.fileno())
     os.replace(tmp, path)
 
 
 def read(path: Path) -> dict:
-    """The payload a checkpoint at ``path`` holds."""
+    """The payload a checkpoint at ``path`` holds; :class:`CheckpointRefused` when its HMAC
+    is missing or does not match this user's key (nothing is unpickled then)."""
     import pickle
 
-    with open(path, "rb") as f:
-        return pickle.load(f)
+    blob = Path(path).read_bytes()
+    key = user_key(create=False)
+    head, _, rest = blob.partition(b"\n")
+    mac, _, data = rest.partition(b"\n")
+    if not blob.startswith(MAGIC) or key is None or \
+            not hmac.compare_digest(mac, _mac(key, data)):
+        raise CheckpointRefused(
+            f"'{path}' was not written by this user's runs (its HMAC does not match the key "
+            f"in '{key_path()}'): not unpickled, since unpickling runs code; start the run "
+            f"again without --resume")
+    return pickle.loads(data)
