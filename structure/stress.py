@@ -1,0 +1,151 @@
+"""Strain and stress of a triangulated membrane, per triangle, from the law it ran with.
+
+Each triangle is a constant-strain element (:class:`structure.hyperelastic.TriangleMembrane`):
+F (3 x 2) maps its rest edges to its current ones, C = F^T F (2 x 2, in the triangle's rest
+frame) and the principal stretches lambda_1 >= lambda_2 are the square roots of C's
+eigenvalues, along its eigenvectors V_i at rest and along the unit vectors F V_i /
+lambda_i now. From them (all per triangle, principal values largest first):
+
+- Green-Lagrange strains E_i = (lambda_i^2 - 1) / 2 and logarithmic strains ln lambda_i (1);
+- the thickness stretch lambda_3 and the current thickness t lambda_3 (m);
+- the Cauchy membrane resultants n_i (N/m, force per current length), the principal Cauchy
+  stresses sigma_i = n_i / (t lambda_3) (Pa), and the plane-stress von Mises stress
+  sqrt(sigma_1^2 - sigma_1 sigma_2 + sigma_2^2) (Pa).
+
+The resultants come from the law's second Piola-Kirchhoff stress S (Pa, 2 x 2, rest frame)
+pushed forward, n = t F S F^T / (lambda_1 lambda_2); for the laws here C and S share their
+principal axes, so n_i = t lambda_i^2 S_i / (lambda_1 lambda_2). The laws
+(:data:`STRESS_LAWS`, keyed by the law's class):
+
+- :class:`structure.hyperelastic.HyperelasticLaw` (incompressible, W(I1)): lambda_3 =
+  1 / (lambda_1 lambda_2) and sigma_i = 2 W'(I1) (lambda_i^2 - lambda_3^2);
+- :class:`structure.hyperelastic.SaintVenantKirchhoff` (plane stress, linear in E):
+  S = Y / (1 - nu^2) [nu tr E I + (1 - nu) E], and lambda_3^2 = 1 - 2 nu tr E / (1 - nu),
+  the plane-stress thickness strain of the same law.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .hyperelastic import HyperelasticLaw, SaintVenantKirchhoff, TriangleMembrane
+
+
+@dataclass(frozen=True)
+class TriangleStrain:
+    """Per triangle (m triangles): ``stretch`` (m, 2) principal stretches lambda_1 >=
+    lambda_2 (1); ``rest_direction`` (m, 2, 3) their unit directions at rest and
+    ``direction`` (m, 2, 3) now; ``green`` (m, 2) principal Green-Lagrange strains (1);
+    ``log`` (m, 2) logarithmic strains (1); ``area_ratio`` (m,) lambda_1 lambda_2 (1)."""
+
+    stretch: np.ndarray
+    rest_direction: np.ndarray
+    direction: np.ndarray
+
+    @property
+    def green(self) -> np.ndarray:
+        return 0.5 * (self.stretch**2 - 1.0)
+
+    @property
+    def log(self) -> np.ndarray:
+        return np.log(self.stretch)
+
+    @property
+    def area_ratio(self) -> np.ndarray:
+        return self.stretch[:, 0] * self.stretch[:, 1]
+
+
+@dataclass(frozen=True)
+class TriangleStress:
+    """Per triangle: ``resultant`` (m, 2) principal Cauchy membrane resultants n_i (N/m),
+    along ``strain.direction``; ``thickness`` (m,) current thickness (m); ``strain`` the
+    :class:`TriangleStrain` they come from."""
+
+    resultant: np.ndarray
+    thickness: np.ndarray
+    strain: TriangleStrain
+
+    @property
+    def stress(self) -> np.ndarray:
+        """(m, 2) Pa: principal Cauchy stresses sigma_i = n_i / thickness."""
+        return self.resultant / self.thickness[:, None]
+
+    @property
+    def von_mises(self) -> np.ndarray:
+        """(m,) Pa: the plane-stress von Mises stress."""
+        s1, s2 = self.stress[:, 0], self.stress[:, 1]
+        return np.sqrt(s1 * s1 - s1 * s2 + s2 * s2)
+
+
+def deformation_gradient(membrane: TriangleMembrane, pos: np.ndarray) -> np.ndarray:
+    """(m, 3, 2): F of each triangle at positions ``pos`` (n, 3) m."""
+    pos = np.asarray(pos, dtype=float)
+    tri = membrane.triangles
+    edges = np.stack([pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]]], axis=2)
+    return edges @ membrane.rest_inverse
+
+
+def _rest_frame(membrane: TriangleMembrane) -> np.ndarray:
+    """(m, 3, 2): the rest frame's unit axes (the first edge, and in-plane normal to it)."""
+    x, tri = membrane.rest, membrane.triangles
+    e1 = x[tri[:, 1]] - x[tri[:, 0]]
+    e2 = x[tri[:, 2]] - x[tri[:, 0]]
+    u = e1 / np.linalg.norm(e1, axis=1, keepdims=True)
+    normal = np.cross(e1, e2)
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    return np.stack([u, np.cross(normal, u)], axis=2)
+
+
+def triangle_strain(membrane: TriangleMembrane, pos: np.ndarray) -> TriangleStrain:
+    """The principal stretches and directions of every triangle at ``pos`` (n, 3) m."""
+    F = deformation_gradient(membrane, pos)
+    C = np.einsum("mki,mkj->mij", F, F)
+    values, vectors = np.linalg.eigh(C)               # ascending
+    values, vectors = values[:, ::-1], vectors[:, :, ::-1]
+    stretch = np.sqrt(np.maximum(values, 0.0))
+    rest = np.einsum("mki,mij->mjk", _rest_frame(membrane), vectors)
+    now = np.einsum("mki,mij->mjk", F, vectors)
+    now /= np.maximum(stretch[:, :, None], np.finfo(float).tiny)
+    return TriangleStrain(stretch, rest, now)
+
+
+def _incompressible(law: HyperelasticLaw, strain: TriangleStrain, thickness: float):
+    lam = strain.stretch
+    lam3 = 1.0 / (lam[:, 0] * lam[:, 1])
+    i1 = (lam**2).sum(axis=1) + lam3**2
+    c10, c20, c30 = law.coefficients
+    slope = c10 + 2 * c20 * (i1 - 3) + 3 * c30 * (i1 - 3) ** 2
+    sigma = 2 * slope[:, None] * (lam**2 - lam3[:, None] ** 2)
+    current = thickness * lam3
+    return sigma * current[:, None], current
+
+
+def _svk(law: SaintVenantKirchhoff, strain: TriangleStrain, thickness: float):
+    e = strain.green
+    nu, k = law.poisson_ratio, law.youngs_modulus / (1 - law.poisson_ratio**2)
+    trace = e.sum(axis=1)
+    piola = k * (nu * trace[:, None] + (1 - nu) * e)  # principal S_i (Pa)
+    lam = strain.stretch
+    resultant = thickness * lam**2 * piola / (lam[:, 0] * lam[:, 1])[:, None]
+    lam3 = np.sqrt(np.maximum(1.0 - 2.0 * nu * trace / (1.0 - nu), 0.0))
+    return resultant, thickness * lam3
+
+
+STRESS_LAWS: dict[type, Callable] = {HyperelasticLaw: _incompressible,
+                                     SaintVenantKirchhoff: _svk}
+"""law class -> (law, TriangleStrain, rest thickness m) -> (resultants (m, 2) N/m, current
+thickness (m,) m)."""
+
+
+def triangle_stress(membrane: TriangleMembrane, law, pos: np.ndarray) -> TriangleStress:
+    """The principal membrane resultants and stresses of every triangle at ``pos`` (n, 3) m
+    under ``law`` (module doc); ValueError naming the laws there are for another law."""
+    rule = STRESS_LAWS.get(type(law))
+    if rule is None:
+        raise ValueError(f"no stress rule for the law {type(law).__name__}; allowed: "
+                         f"{', '.join(sorted(k.__name__ for k in STRESS_LAWS))}")
+    strain = triangle_strain(membrane, pos)
+    resultant, thickness = rule(law, strain, membrane.thickness)
+    return TriangleStress(resultant, thickness, strain)
