@@ -24,6 +24,28 @@ def model10(thesis_material):
     return hemisphere_model(10, C.TANK_RADIUS, thesis_material)
 
 
+def clamped_disc_under_pressure(n: int, radius: float, pressure: float, law):
+    """A flat disc of the App. C disc grid (``n``, ``radius`` m, the thesis thickness), its
+    rim held, under ``pressure`` (Pa) along +z at the equilibrium the membrane solver
+    finds from a small bulge: (TriangleMembrane, positions (n_nodes, 3) m, rim nodes)."""
+    import numpy as np
+
+    from structure.grid import boundary_ring, disc_grid, quad_faces, triangles_from_quads
+    from structure.hyperelastic import TriangleMembrane, equilibrium_under_pressure
+
+    points = disc_grid(n, radius)
+    triangles = triangles_from_quads(quad_faces(n))
+    normal = np.cross(points[triangles[:, 1]] - points[triangles[:, 0]],
+                      points[triangles[:, 2]] - points[triangles[:, 0]])[:, 2]
+    if normal.mean() < 0:
+        triangles = triangles[:, ::-1]
+    membrane = TriangleMembrane(points, triangles, C.MEMBRANE_THICKNESS)
+    start = points.copy()
+    start[:, 2] = 1e-3 * (1 - (np.hypot(points[:, 0], points[:, 1]) / radius) ** 2)
+    fixed = boundary_ring(n, 0)
+    return membrane, equilibrium_under_pressure(membrane, law, pressure, fixed, start), fixed
+
+
 TINY_SWEEP = ("[scene]\nname = 'tiny'\nprocedure = 'volume-sweep'\n[membrane]\n"
               "grid_size = 8\n[structure]\nmodel = 'xpbd'\n[sweep]\nscale = 'tank'\n"
               "fills = [0.1, 0.2]\ndrain = true\n")

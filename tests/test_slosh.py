@@ -145,20 +145,26 @@ viscosity = 0.0
 """
 
 
+def _short_run(tmp_path, fluid_keys: str = ""):
+    """``fsi run`` of :data:`SHORT` over 1.4 s with ``fluid_keys`` added to its [fluid]
+    table: (windows, attrs, the results folder)."""
+    scene = tmp_path / "short.toml"
+    scene.write_text(SHORT.format(end=1.4) + fluid_keys)
+    out = tmp_path / "out"
+    done = subprocess.run([sys.executable, "-m", "fsi.cli", "run", str(scene), "--out",
+                           str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-2000:]
+    res = read_result(out)
+    return res["windows"], res["attrs"], out
+
+
 def test_short_slosh_run(tmp_path):
     """12^3 cells, 1.4 s (1.9 periods): the result holds the windows, the contents' weight
     is the vertical force, the volume is held, the moment about the centre of a sphere
     nearly vanishes (inviscid: the wall's pressure passes through the centre), the centre
     of mass swings toward -x (the tank accelerates toward +x) and the first mode is found
     within 5 % of Budiansky's lambda1 = 1.5602."""
-    scene = tmp_path / "short.toml"
-    scene.write_text(SHORT.format(end=1.4))
-    out = tmp_path / "out"
-    done = subprocess.run([sys.executable, "-m", "fsi.cli", "run", str(scene), "--out",
-                           str(out)], capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr[-2000:]
-    res = read_result(out)
-    w, a = res["windows"], res["attrs"]
+    w, a, out = _short_run(tmp_path)
     assert len(w["time"]) == 701 and w["force"].shape == (701, 3)
     weight = a["liquid_mass"] * 9.81
     assert np.allclose(w["force"][:, 2], -weight, rtol=1e-6)
@@ -183,14 +189,7 @@ def test_on_a_plane_of_faces_the_centre_of_mass_rises_by_the_surfaces_energy(tmp
     peak (11 % measured; with the faces weighed by their liquid fraction it never rises,
     and the vertical force drifts from the weight by 0.2 %); the vertical force is the
     weight to second order (3e-4 measured) and the moment about the centre nearly vanishes."""
-    scene = tmp_path / "faces.toml"
-    scene.write_text(SHORT.format(end=1.4) + "level_plane = 'faces'\n")
-    out = tmp_path / "out"
-    done = subprocess.run([sys.executable, "-m", "fsi.cli", "run", str(scene), "--out",
-                           str(out)], capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr[-2000:]
-    res = read_result(out)
-    w, a = res["windows"], res["attrs"]
+    w, a, _ = _short_run(tmp_path, "level_plane = 'faces'\n")
     weight = a["liquid_mass"] * 9.81
     rise = w["centre_of_mass"][:, 2] - w["centre_of_mass"][0, 2]
     energy = w["potential_energy"] / weight

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import clamped_disc_under_pressure
 
 from structure.hyperelastic import (HyperelasticLaw, SaintVenantKirchhoff, TriangleMembrane,
                                     equilibrium_at_volume, icosphere)
@@ -117,26 +118,15 @@ def test_hencky_clamped_membrane_stress_coefficients():
     the rim (0.95 a < r; -1.0 % measured; single rim triangles of the distorted corner cells
     scatter by 40 %)."""
     from fsi.constants import MEMBRANE_THICKNESS as H, MEMBRANE_YOUNGS_MODULUS as E
-    from structure.grid import boundary_ring, disc_grid, quad_faces, triangles_from_quads
-    from structure.hyperelastic import equilibrium_under_pressure
 
     profile, c = _hencky(0.3)
     assert c == pytest.approx(0.6534, abs=1e-4)
     assert profile(0.0) == pytest.approx(0.4311, abs=1e-4)
     assert profile(1.0) == pytest.approx(0.3330, abs=1e-4)
-    a, q, n = 0.1, 68.5, 38
-    points = disc_grid(n, a)
-    tri = triangles_from_quads(quad_faces(n))
-    normal = np.cross(points[tri[:, 1]] - points[tri[:, 0]],
-                      points[tri[:, 2]] - points[tri[:, 0]])[:, 2]
-    if normal.mean() < 0:
-        tri = tri[:, ::-1]
-    membrane = TriangleMembrane(points, tri, H)
+    a, q = 0.1, 68.5
     law = SaintVenantKirchhoff(E, 0.3)
-    start = points.copy()
-    start[:, 2] = 1e-3 * (1 - (np.hypot(points[:, 0], points[:, 1]) / a) ** 2)
-    fixed = boundary_ring(n, 0)
-    x = equilibrium_under_pressure(membrane, law, q, fixed, start)
+    membrane, x, fixed = clamped_disc_under_pressure(38, a, q, law)
+    tri = membrane.triangles
     stress = triangle_stress(membrane, law, x)
     centre = x[tri].mean(axis=1)
     r = np.hypot(centre[:, 0], centre[:, 1])
@@ -146,7 +136,7 @@ def test_hencky_clamped_membrane_stress_coefficients():
     hencky = (E * q * q * a * a / H / H) ** (1 / 3) * profile(r / a)
     near = r < 0.15 * a
     assert np.all(np.abs(sigma_r[near] / hencky[near] - 1) < 0.03)
-    held = np.zeros(len(points), dtype=bool)
+    held = np.zeros(len(x), dtype=bool)
     held[fixed] = True
     ring = (r > 0.95 * a) & ~held[tri].all(axis=1)
     area = membrane.rest_area[ring]
