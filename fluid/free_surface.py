@@ -141,8 +141,9 @@ def surface_of(model: FluidModel, geometry: Geometry) -> Surface:
 def measured_state(model: FluidModel, state: FluidState) -> FluidState:
     """``state`` with the geometry :mod:`fluid.measures` weighs its faces by when the level
     lies on a plane of faces (``tank_grid(..., face_at=level)``): the step's own view
-    (:func:`surface_of`), each surface face carrying the liquid between its wet centre and
-    the surface only (theta of its centre distance).
+    (:func:`surface_of`), each surface face normal to the vertical carrying the liquid
+    between its wet centre and the surface only (theta of its centre distance; the side
+    faces, whose theta jumps at the rim's slivers, keep the view's fraction).
 
     The liquid's vertical momentum is then rho sum_s F_s z_s over the surface faces' fluxes
     F_s and crossings z_s, the rate of rho int z dV, and its centre of mass rises by the
@@ -155,7 +156,8 @@ def measured_state(model: FluidModel, state: FluidState) -> FluidState:
     times the radius on 12^3 cells)."""
     surface = surface_of(model, state.geometry)
     beta = surface.view.face_fraction.copy()
-    beta[surface.faces] *= surface.theta
+    level = model.grid.face_axis[surface.faces] == model.grid.vertical_axis
+    beta[surface.faces[level]] *= surface.theta[level]
     return replace(state, geometry=replace(surface.view, face_fraction=beta))
 
 
