@@ -25,7 +25,7 @@ import logging
 from _report import SMOKE_HELP, emit, output_dir
 from cases.tensioned_membrane import couple
 
-DOC_FIELDS = ("cases", "extrapolated")
+DOC_FIELDS = ("cases", "extrapolated", "periods", "windows_per_period")
 FIGURE_NAME = "tensioned_membrane.png"
 PERIODS = 3.0
 WINDOWS_PER_PERIOD = 50
