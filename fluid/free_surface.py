@@ -138,7 +138,8 @@ def surface_of(model: FluidModel, geometry: Geometry) -> Surface:
     return Surface(wet, faces, cell, first, theta, point, view)
 
 
-def measured_state(model: FluidModel, state: FluidState) -> FluidState:
+def measured_state(model: FluidModel, state: FluidState,
+                   surface: Surface | None = None) -> FluidState:
     """``state`` with the geometry :mod:`fluid.measures` weighs its faces by when the level
     lies on a plane of faces (``tank_grid(..., face_at=level)``): the step's own view
     (:func:`surface_of`), each surface face normal to the vertical carrying the liquid
@@ -153,8 +154,10 @@ def measured_state(model: FluidModel, state: FluidState) -> FluidState:
     contents' weight by 0.2 % on 12^3 cells. With the level between two planes the liquid
     fraction is the better weight (the surface stays in one layer; with this view the moment
     about a sphere's centre, which vanishes, grows from 4 % to 7 % of the lateral force
-    times the radius on 12^3 cells)."""
-    surface = surface_of(model, state.geometry)
+    times the radius on 12^3 cells). ``surface``: the state's :func:`surface_of`, where the
+    caller has it."""
+    if surface is None:
+        surface = surface_of(model, state.geometry)
     beta = surface.view.face_fraction.copy()
     level = model.grid.face_axis[surface.faces] == model.grid.vertical_axis
     beta[surface.faces[level]] *= surface.theta[level]

@@ -107,9 +107,11 @@ class LimpWindows(SurfaceWindows):
     def sample(self, run: Run, t: float) -> None:
         """Records the ``windows`` record at time ``t`` (s) in ``run``."""
         model, state = self.model, self.fluid.state
-        free = surface_of(model, state.geometry).faces if model.viscosity > 0 else None
+        surface = surface_of(model, state.geometry) \
+            if model.viscosity > 0 or self.on_faces else None
+        free = surface.faces if model.viscosity > 0 else None
         if self.on_faces:
-            state = measured_state(model, state)
+            state = measured_state(model, state, surface)
         run.record("windows", dict(
             time=t, momentum=momentum(model, state),
             angular_momentum=angular_momentum(model, state),
