@@ -22,6 +22,11 @@ principal axes, so n_i = t lambda_i^2 S_i / (lambda_1 lambda_2). The laws
 - :class:`structure.hyperelastic.SaintVenantKirchhoff` (plane stress, linear in E):
   S = Y / (1 - nu^2) [nu tr E I + (1 - nu) E], and lambda_3^2 = 1 - 2 nu tr E / (1 - nu),
   the plane-stress thickness strain of the same law.
+
+Any law of the package, the XPBD membrane's blocks and their tension field included, also
+gives its resultants from its own energy (:func:`term_resultants`, on a
+:class:`structure.tangent.membrane.MembraneTerm`); for the two laws above that path agrees
+with the closed forms to round-off.
 """
 from __future__ import annotations
 
@@ -131,6 +136,30 @@ def _svk(law: SaintVenantKirchhoff, strain: TriangleStrain, thickness: float):
     resultant = thickness * lam**2 * piola / (lam[:, 0] * lam[:, 1])[:, None]
     lam3 = np.sqrt(np.maximum(1.0 - 2.0 * nu * trace / (1.0 - nu), 0.0))
     return resultant, thickness * lam3
+
+
+def term_resultants(term, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The principal Cauchy membrane resultants (m, 2) N/m and their directions (m, 2, 3) of
+    every triangle of ``term`` (:class:`structure.tangent.membrane.MembraneTerm`: any law of
+    the package, the XPBD membrane's blocks and their tension field included) at ``pos``
+    (n, 3) m, from the law's own energy: with G = [[2 g0, g2], [g2, 2 g1]] (J) its second
+    Piola-Kirchhoff stress times the rest volume (g = d psi / dc,
+    :meth:`~structure.tangent.membrane.MembraneTerm.c_gradients`), n = F G F^T / a, a the
+    current area; F = Q R in the current plane, so n's principal values are R G R^T / a's
+    and its directions Q's images of their eigenvectors."""
+    pos = np.asarray(pos, dtype=float)
+    tri = term.triangles
+    edges = np.stack([pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]]], axis=2)
+    F = edges @ term.rest_inverse
+    g = term.c_gradients(pos)
+    G = np.stack([np.stack([2 * g[:, 0], g[:, 2]], -1), np.stack([g[:, 2], 2 * g[:, 1]], -1)],
+                 axis=1)
+    Q, R = np.linalg.qr(F)
+    area = 0.5 * np.linalg.norm(np.cross(edges[:, :, 0], edges[:, :, 1]), axis=1)
+    plane = R @ G @ np.swapaxes(R, 1, 2) / area[:, None, None]
+    values, vectors = np.linalg.eigh(plane)
+    values, vectors = values[:, ::-1], vectors[:, :, ::-1]
+    return values, np.einsum("mki,mij->mjk", Q, vectors)
 
 
 STRESS_LAWS: dict[type, Callable] = {HyperelasticLaw: _incompressible,

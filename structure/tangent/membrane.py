@@ -244,6 +244,35 @@ def element_hessians(x, triangles, rest_inverse, law, scale, params, stiffness, 
     return energy, grad, blocks
 
 
+@njit(**JIT)
+def element_c_gradients(x, triangles, rest_inverse, law, scale, params, stiffness, alpha00,
+                        nu):
+    """(m, 3) J: each triangle's scale * dpsi/dc, c = (c00, c11, c01), at ``x`` (arguments
+    as :func:`element_hessians`'): the triangle's second Piola-Kirchhoff stress times its
+    rest volume is [[2 g0, g2], [g2, 2 g1]] in its rest frame."""
+    m = triangles.shape[0]
+    out = np.zeros((m, 3))
+    g, h = np.empty(3), np.empty((3, 3))
+    e, je, he = np.empty(3), np.empty((3, 3)), np.empty((3, 3, 3))
+    pe, pee = np.empty(3), np.empty((3, 3))
+    for t in range(m):
+        d = rest_inverse[t]
+        a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+        f0 = (x[b] - x[a]) * d[0, 0] + (x[c] - x[a]) * d[1, 0]
+        f1 = (x[b] - x[a]) * d[0, 1] + (x[c] - x[a]) * d[1, 1]
+        c00, c11, c01 = f0 @ f0, f1 @ f1, f0 @ f1
+        if law == SVK:
+            _svk(params[0], params[1], c00, c11, c01, g, h)
+        elif law == YEOH:
+            _yeoh(params, c00, c11, c01, g, h)
+        else:
+            _block_law(stiffness[t], alpha00[t], law == TENSION_FIELD, nu, c00, c11, c01, g,
+                       h, e, je, he, pe, pee)
+        for i in range(3):
+            out[t, i] = scale[t] * g[i]
+    return out
+
+
 @njit(**JIT, inline="always")
 def _dc(a, j, r, f):
     """d c_a / d f_j[r] (c = (c00, c11, c01))."""
@@ -286,6 +315,13 @@ class MembraneTerm:
                                 self.rest_inverse, LAWS[self.law], self.scale, self.params,
                                 self.stiffness, self.alpha00, float(self.poisson_ratio),
                                 hessian)
+
+    def c_gradients(self, x: np.ndarray) -> np.ndarray:
+        """(m, 3) J: each triangle's scaled dpsi/dc at ``x`` (n, 3) m
+        (:func:`element_c_gradients`)."""
+        return element_c_gradients(np.ascontiguousarray(x, dtype=float), self.triangles,
+                                   self.rest_inverse, LAWS[self.law], self.scale, self.params,
+                                   self.stiffness, self.alpha00, float(self.poisson_ratio))
 
     @classmethod
     def from_triangle_membrane(cls, membrane, law) -> "MembraneTerm":
