@@ -23,6 +23,10 @@ principal axes, so n_i = t lambda_i^2 S_i / (lambda_1 lambda_2). The laws
   S = Y / (1 - nu^2) [nu tr E I + (1 - nu) E], and lambda_3^2 = 1 - 2 nu tr E / (1 - nu),
   the plane-stress thickness strain of the same law.
 
+Bending (:func:`bending_curvature`, :func:`bending_moments`): the midedge shape operator of
+:mod:`structure.bending` per triangle and the Kirchhoff-Love moments M = D [(1 - nu) H +
+nu tr(H) I] (N m/m), the bending stress at the two surfaces +-6 M / t^2.
+
 Any law of the package, the XPBD membrane's blocks and their tension field included, also
 gives its resultants from its own energy (:func:`term_resultants`, on a
 :class:`structure.tangent.membrane.MembraneTerm`); for the two laws above that path agrees
@@ -35,6 +39,7 @@ from typing import Callable
 
 import numpy as np
 
+from .bending import MidedgeBending, _rest_geometry
 from .hyperelastic import HyperelasticLaw, SaintVenantKirchhoff, TriangleMembrane
 
 
@@ -92,9 +97,9 @@ def deformation_gradient(membrane: TriangleMembrane, pos: np.ndarray) -> np.ndar
     return edges @ membrane.rest_inverse
 
 
-def _rest_frame(membrane: TriangleMembrane) -> np.ndarray:
-    """(m, 3, 2): the rest frame's unit axes (the first edge, and in-plane normal to it)."""
-    x, tri = membrane.rest, membrane.triangles
+def _rest_frame(x: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(m, 3, 2): the rest frame's unit axes of triangles ``tri`` (m, 3) on rest positions
+    ``x`` (n, 3) m (the first edge, and in-plane normal to it)."""
     e1 = x[tri[:, 1]] - x[tri[:, 0]]
     e2 = x[tri[:, 2]] - x[tri[:, 0]]
     u = e1 / np.linalg.norm(e1, axis=1, keepdims=True)
@@ -110,7 +115,7 @@ def triangle_strain(membrane: TriangleMembrane, pos: np.ndarray) -> TriangleStra
     values, vectors = np.linalg.eigh(C)               # ascending
     values, vectors = values[:, ::-1], vectors[:, :, ::-1]
     stretch = np.sqrt(np.maximum(values, 0.0))
-    rest = np.einsum("mki,mij->mjk", _rest_frame(membrane), vectors)
+    rest = np.einsum("mki,mij->mjk", _rest_frame(membrane.rest, membrane.triangles), vectors)
     now = np.einsum("mki,mij->mjk", F, vectors)
     now /= np.maximum(stretch[:, :, None], np.finfo(float).tiny)
     return TriangleStrain(stretch, rest, now)
@@ -178,3 +183,47 @@ def triangle_stress(membrane: TriangleMembrane, law, pos: np.ndarray) -> Triangl
     strain = triangle_strain(membrane, pos)
     resultant, thickness = rule(law, strain, membrane.thickness)
     return TriangleStress(resultant, thickness, strain)
+
+
+def bending_curvature(bending: MidedgeBending, rest: np.ndarray, pos: np.ndarray,
+                      poisson_ratio: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each triangle's curvature tensor at ``pos`` (n, 3) m, the midedge shape operator of
+    :mod:`structure.bending`, H_T = sum_i s_i l_i d_i / (2 A) m_i m_i^T (d_i the change of
+    the dihedral angle at edge i, s_i = 2 on a clamped boundary edge, whose face sees the
+    whole angle to its ghost; a free boundary edge's change is the one that minimises the
+    triangle's energy, as the model condenses it; ``poisson_ratio`` the model's): (m, 2, 2)
+    1/m in the rest frame (m, 3, 2) of unit axes, which is returned with it."""
+    from .bending import _angle_jacobian
+
+    rest = np.asarray(rest, dtype=float)
+    tri = bending.triangles
+    length, in_plane, area = _rest_geometry(rest, tri)
+    change, _, _ = _angle_jacobian(np.ascontiguousarray(pos, dtype=float), tri, bending.flap,
+                                   bending.ghost, bending.active, bending.rest_angle)
+    change = np.where(bending.active, change, 0.0)
+    for t in np.nonzero(~bending.active.all(axis=1))[0]:
+        on, off = bending.active[t], ~bending.active[t]
+        if not on.any():
+            continue
+        cosine = in_plane[t] @ in_plane[t].T
+        k = length[t][:, None] * length[t][None, :] * ((1 - poisson_ratio) * cosine**2
+                                                       + poisson_ratio)
+        change[t, off] = -np.linalg.solve(k[np.ix_(off, off)], k[np.ix_(off, on)] @ change[t, on])
+    frame = _rest_frame(rest, tri)
+    normals = np.einsum("tir,trk->tik", in_plane, frame)           # m_i in the frame
+    weight = np.where(bending.flap < 0, 2.0, 1.0) * length * change / (2.0 * area[:, None])
+    return np.einsum("ti,tir,tis->trs", weight, normals, normals), frame
+
+
+def bending_moments(curvature: np.ndarray, frame: np.ndarray, flexural_rigidity: float,
+                    poisson_ratio: float) -> tuple[np.ndarray, np.ndarray]:
+    """The principal bending moments (m, 2) N m/m, largest first, and their unit directions
+    (m, 2, 3) of a Kirchhoff-Love plate with the curvature tensors ``curvature`` (m, 2, 2)
+    1/m in the triangles' rest ``frame`` (m, 3, 2) (:func:`bending_curvature`),
+    M = D [(1 - nu) H + nu tr(H) I]; the bending stress at the two surfaces is
+    +-6 M / t^2."""
+    trace = np.trace(curvature, axis1=1, axis2=2)
+    moment = flexural_rigidity * ((1 - poisson_ratio) * curvature
+                                  + poisson_ratio * trace[:, None, None] * np.eye(2))
+    values, vectors = np.linalg.eigh(moment)
+    return values[:, ::-1], np.einsum("mki,mij->mjk", frame, vectors[:, :, ::-1])
