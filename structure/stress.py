@@ -193,13 +193,10 @@ def bending_curvature(bending: MidedgeBending, rest: np.ndarray, pos: np.ndarray
     whole angle to its ghost; a free boundary edge's change is the one that minimises the
     triangle's energy, as the model condenses it; ``poisson_ratio`` the model's): (m, 2, 2)
     1/m in the rest frame (m, 3, 2) of unit axes, which is returned with it."""
-    from .bending import _angle_jacobian
-
     rest = np.asarray(rest, dtype=float)
     tri = bending.triangles
     length, in_plane, area = _rest_geometry(rest, tri)
-    change, _, _ = _angle_jacobian(np.ascontiguousarray(pos, dtype=float), tri, bending.flap,
-                                   bending.ghost, bending.active, bending.rest_angle)
+    change, _, _ = bending.angle_jacobian(pos)
     change = np.where(bending.active, change, 0.0)
     for t in np.nonzero(~bending.active.all(axis=1))[0]:
         on, off = bending.active[t], ~bending.active[t]
