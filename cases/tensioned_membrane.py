@@ -41,7 +41,7 @@ from fsi.analysis.membrane_series import pinned_membrane_limit
 from fsi.constants import STANDARD_GRAVITY, WATER_DENSITY
 from fsi.coupled.adapters import POINTS, PRESSURE, VELOCITIES, FluidParticipant
 from fsi.slosh.analysis import fit_free_decay
-from fsi.slosh.limp import NODE_OFFSET, HeightSurface
+from fsi.slosh.limp import HeightSurface
 from structure.tensioned import (MembraneMotion, TensionedMembrane, at_rest, newmark_step,
                                  tensioned_membrane)
 
@@ -148,6 +148,16 @@ class Outcome:
         return self.lambda1 / self.series - 1.0
 
 
+def cylinder_grid(radius: float, depth: float, cells: int):
+    """The 3-D grid of ``cells`` per axis over an upright cylinder of ``radius`` (m) filled
+    ``depth`` (m) deep, its level z = 0 a plane of faces: 1.5 cells beyond the wall on each
+    side, two below the bottom, three above the level."""
+    h = 2 * radius / (cells - 3)
+    half = 0.5 * cells * h
+    below = int(np.ceil(depth / h)) + 2
+    return cartesian_grid((-half, -half, -below * h), (half, half, 3 * h), cells)
+
+
 def couple(gamma: float, depth_ratio: float, cells: int, periods: float = PERIODS,
            windows_per_period: int = WINDOWS_PER_PERIOD) -> Outcome:
     """The coupled run at Gamma = T / (rho g a^2) = ``gamma``, depth h = ``depth_ratio`` a,
@@ -166,17 +176,13 @@ def couple(gamma: float, depth_ratio: float, cells: int, periods: float = PERIOD
         lateral = peak * np.sin(np.pi * t / pulse) ** 2 if t < pulse else 0.0
         return np.array([-lateral, 0.0, -g])
 
-    h = 2 * a / (cells - 3)
-    half = 0.5 * cells * h
-    below = int(np.ceil(depth / h)) + 2
-    grid = cartesian_grid((-half, -half, -below * h), (half, half, 3 * h), cells)
+    grid = cylinder_grid(a, depth, cells)
     model = FluidModel(grid=grid, container=UprightCylinder(a, -depth, 1.0), density=rho,
                        viscosity=0.0, body_acceleration=body, convection=False,
                        time_scheme=TIME_SCHEME)
     heights = HeightSurface(grid, bottom=-4 * depth)
-    axes = [np.concatenate([[c[0] - h], c, [c[-1] + h]]) + NODE_OFFSET[k] * h
-            for k, c in enumerate(grid.centre_axes[:2])]
-    sheet = tensioned_membrane(axes[0], axes[1], a, tension, AREAL_DENSITY)
+    lattice = heights.plan.reshape(heights.shape + (2,))
+    sheet = tensioned_membrane(lattice[:, 0, 0], lattice[0, :, 1], a, tension, AREAL_DENSITY)
     inside = np.hypot(heights.plan[:, 0], heights.plan[:, 1]) < a
     if not np.allclose(heights.plan[inside], sheet.plan):
         raise RuntimeError("the sheet's nodes are not the height surface's inside the wall")

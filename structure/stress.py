@@ -89,12 +89,15 @@ class TriangleStress:
         return np.sqrt(s1 * s1 - s1 * s2 + s2 * s2)
 
 
+def _edges(pos: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(m, 3, 2) m: each triangle's two edges from its first vertex, as columns."""
+    pos = np.asarray(pos, dtype=float)
+    return np.stack([pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]]], axis=2)
+
+
 def deformation_gradient(membrane: TriangleMembrane, pos: np.ndarray) -> np.ndarray:
     """(m, 3, 2): F of each triangle at positions ``pos`` (n, 3) m."""
-    pos = np.asarray(pos, dtype=float)
-    tri = membrane.triangles
-    edges = np.stack([pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]]], axis=2)
-    return edges @ membrane.rest_inverse
+    return _edges(pos, membrane.triangles) @ membrane.rest_inverse
 
 
 def _rest_frame(x: np.ndarray, tri: np.ndarray) -> np.ndarray:
@@ -152,9 +155,7 @@ def term_resultants(term, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     :meth:`~structure.tangent.membrane.MembraneTerm.c_gradients`), n = F G F^T / a, a the
     current area; F = Q R in the current plane, so n's principal values are R G R^T / a's
     and its directions Q's images of their eigenvectors."""
-    pos = np.asarray(pos, dtype=float)
-    tri = term.triangles
-    edges = np.stack([pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]]], axis=2)
+    edges = _edges(pos, term.triangles)
     F = edges @ term.rest_inverse
     g = term.c_gradients(pos)
     G = np.stack([np.stack([2 * g[:, 0], g[:, 2]], -1), np.stack([g[:, 2], 2 * g[:, 1]], -1)],

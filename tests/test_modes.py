@@ -4,8 +4,8 @@ linearised surface on the same grid."""
 import numpy as np
 import pytest
 
+from cases.tensioned_membrane import cylinder_grid
 from fluid.container import SphericalTank, UprightCylinder
-from fluid.grid import cartesian_grid
 from fluid.measures import momentum
 from fluid.model import FluidModel
 from fluid.modes import surface_modes
@@ -66,10 +66,7 @@ def test_the_grid_puts_a_plane_of_faces_at_the_level():
 def _cylinder(cells: int, depth: float, radius: float = 0.15):
     """(model, geometry) of an upright cylinder of ``radius`` (m) filled ``depth`` (m) deep
     on ``cells`` cells across, the level z = 0 a plane of faces, linearised free surface."""
-    h = 2 * radius / (cells - 3)
-    half = 0.5 * cells * h
-    below = int(np.ceil(depth / h)) + 2
-    grid = cartesian_grid((-half, -half, -below * h), (half, half, 3 * h), cells)
+    grid = cylinder_grid(radius, depth, cells)
     model = FluidModel(grid=grid, container=UprightCylinder(radius, -depth, 1.0),
                        density=WATER_DENSITY, viscosity=0.0,
                        body_acceleration=np.array([0.0, 0.0, -G]), convection=False,
