@@ -29,10 +29,16 @@ BUDGET_SECONDS = 300.0
 DOC_FIELDS = ("wall_seconds", "summary", "budget_seconds", "ratio_to_budget", "cores")
 
 
+THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+"""Removed from the timed command's environment: it runs as a user's shell runs it."""
+
+
 def timed(command: list[str], cwd: Path) -> tuple[float, str, int]:
-    """Run ``command`` in ``cwd``; its wall seconds, pytest's last summary line, exit status."""
+    """Run ``command`` in ``cwd`` (the environment without :data:`THREAD_VARIABLES`); its
+    wall seconds, pytest's last summary line, exit status."""
+    env = {k: v for k, v in os.environ.items() if k not in THREAD_VARIABLES}
     start = time.perf_counter()
-    done = subprocess.run(command, cwd=cwd, capture_output=True, text=True)
+    done = subprocess.run(command, cwd=cwd, capture_output=True, text=True, env=env)
     wall = time.perf_counter() - start
     lines = [line for line in done.stdout.splitlines() if re.search(r"\d+ passed", line)]
     if done.returncode != 0:
