@@ -258,6 +258,7 @@ def cmd_advise(args) -> int:
 
 
 def cmd_show(args) -> int:
+    from fsi.analysis.diaphragm import summary_lines
     from fsi.lifecycle import RunResult
     from fsi.procedures import PROCEDURES
 
@@ -277,6 +278,8 @@ def cmd_show(args) -> int:
     procedure = PROCEDURES.get(str(a.get("procedure", "")))
     if procedure is not None:
         procedure.headline(result)
+    for line in summary_lines(res):
+        print(line)
     unconverged = not_converged(result)
     print(f"  converged: {'all' if not unconverged else 'not ' + unconverged}")
     print(f"  failure: {a.get('failure') or 'none'}; wall {float(a.get('run_seconds', np.nan)):.1f} s")

@@ -14,6 +14,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Optional
 
+import numpy as np
+
 
 class SceneError(ValueError):
     """A scene file is malformed: the message names the key, the value and the allowed range."""
@@ -45,6 +47,24 @@ class Table(dict):
 
 def positive(v) -> bool:
     return v > 0
+
+
+def check_sn_curve(points) -> str | None:
+    """Why ``points`` is not an S-N curve (text), or None: at least two [range Pa > 0,
+    cycles > 0] pairs, the range falling strictly as the cycles rise strictly."""
+    try:
+        a = np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        return "pairs of numbers"
+    if a.size == 0:
+        return None
+    if a.ndim != 2 or a.shape[1] != 2 or len(a) < 2:
+        return "at least two [stress range Pa, cycles] pairs"
+    if not np.all(np.isfinite(a)) or np.any(a <= 0):
+        return "positive, finite stress ranges and cycles"
+    if np.any(np.diff(a[:, 0]) >= 0) or np.any(np.diff(a[:, 1]) <= 0):
+        return "stress ranges falling and cycles rising from one pair to the next"
+    return None
 
 
 def is_vec3(v) -> bool:

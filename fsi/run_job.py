@@ -105,6 +105,20 @@ def prepare(args):
     return folder, scene, setup
 
 
+def annotate_result(setup, result) -> None:
+    """:func:`fsi.analysis.diaphragm.annotate`; a failure of it is the run's
+    ``analysis_failure`` (the frames are still written, the exit status is 1)."""
+    from fsi.analysis.diaphragm import annotate
+
+    try:
+        annotate(setup, result)
+    except Exception as err:  # the run's work is kept whatever the analysis does
+        log.exception("the diaphragm's stress analysis failed")
+        failure = f"the diaphragm's stress analysis: {err}"
+        before = result.attrs.get("analysis_failure")
+        result.attrs["analysis_failure"] = f"{before}; {failure}" if before else failure
+
+
 def run(args) -> int:
     """``fsi run`` with the parsed ``args`` (scene, out, no_plots, overwrite, resume);
     returns the exit status (module doc)."""
@@ -131,6 +145,7 @@ def run(args) -> int:
     finally:
         bar.close()
     result.attrs["run_seconds"] = time.perf_counter() - t0
+    annotate_result(setup, result)
     write_result(folder.stage(), scene, setup.model, result)
     if "interrupted" in result.attrs:
         out = folder.commit(keep_checkpoint=True)

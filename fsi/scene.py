@@ -23,7 +23,8 @@ from structure.xpbd.model import WRINKLING
 from fsi import constants
 from fsi import procedures  # noqa: F401  (fills the registry)
 from fsi.setup.models import STRUCTURE_MODELS
-from fsi.registry import PROCEDURES, Key, SceneError, Table, is_vec3, one_of, positive
+from fsi.registry import (PROCEDURES, Key, SceneError, Table, check_sn_curve, is_vec3, one_of,
+                          positive)
 
 __all__ = ["SCHEMA", "Scene", "SceneError", "bundled_scenes", "load_scene", "parse_scene",
            "reference_markdown"]
@@ -100,9 +101,19 @@ COMMON: dict[str, Table] = {
                                      "constraint rounds per step (thesis "
                                      "ConstraintIterations); thesis-ramp only"),
     }),
+    "fatigue": Table({
+        "sn_curve": Key(list, [], lambda v: check_sn_curve(v) is None,
+                        "empty, or at least two [stress range Pa, cycles] pairs, the range "
+                        "falling as the cycles rise",
+                        "S-N curve of the diaphragm's material for Miner's damage per run "
+                        "(fsi.analysis.fatigue); none is assumed"),
+        "peak_triangles": Key(int, 5, lambda v: 1 <= v <= 1000, "1..1000",
+                              "triangles of largest peak stress whose stress history is "
+                              "rainflow-counted"),
+    }),
 }
 """Tables every scene shares: the scene, the tank, the membrane and its structure model, the
-liquid at rest, the thesis membrane's constraints."""
+liquid at rest, the thesis membrane's constraints, the fatigue data."""
 
 
 def _schema() -> dict[str, Table]:

@@ -168,6 +168,92 @@ def term_resultants(term, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return values, np.einsum("mki,mij->mjk", Q, vectors)
 
 
+def rotated_resultant(term, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every triangle's Cauchy membrane resultant rotated back to its rest frame,
+    R^T n R = U G U / a (m, 2, 2) N/m (F = R U, G and a as in :func:`term_resultants`), and
+    its deformation gradient F (m, 3, 2) at ``pos`` (n, 3) m; the principal values are
+    n's, each direction at rest w maps to F U^-1 w now."""
+    edges = _edges(pos, term.triangles)
+    F = edges @ term.rest_inverse
+    values, vectors = np.linalg.eigh(np.einsum("mki,mkj->mij", F, F))
+    U = np.einsum("mik,mk,mjk->mij", vectors, np.sqrt(np.maximum(values, 0.0)), vectors)
+    g = term.c_gradients(pos)
+    G = np.stack([np.stack([2 * g[:, 0], g[:, 2]], -1), np.stack([g[:, 2], 2 * g[:, 1]], -1)],
+                 axis=1)
+    area = 0.5 * np.linalg.norm(np.cross(edges[:, :, 0], edges[:, :, 1]), axis=1)
+    return U @ G @ U / area[:, None, None], F
+
+
+def _principal(tensor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Principal values (m, 2), largest first, and unit vectors (m, 2, 2) (columns) of
+    symmetric 2 x 2 tensors (m, 2, 2)."""
+    values, vectors = np.linalg.eigh(tensor)
+    return values[:, ::-1], vectors[:, :, ::-1]
+
+
+def _von_mises(s: np.ndarray) -> np.ndarray:
+    """(m,): the plane-stress von Mises value of 2 x 2 stress tensors (m, 2, 2)."""
+    a, d, b = s[:, 0, 0], s[:, 1, 1], s[:, 0, 1]
+    return np.sqrt(np.maximum(a * a - a * d + d * d + 3.0 * b * b, 0.0))
+
+
+def sheet_fields(term, pos: np.ndarray, thickness: float, incompressible: bool,
+                 bending: MidedgeBending | None = None, rest: np.ndarray | None = None,
+                 flexural_rigidity: float = 0.0, poisson_ratio: float = 0.0) -> dict:
+    """Per triangle at ``pos`` (n, 3) m, from ``term``'s law (:func:`rotated_resultant`) and,
+    with ``bending`` on ``rest`` (n, 3) m, the Kirchhoff-Love moments of
+    :func:`bending_curvature` (flexural rigidity N m, Poisson ratio of the model):
+
+    - ``principal_resultant`` (m, 2) N/m and ``principal_direction`` (m, 3), the first's unit
+      direction now;
+    - ``thickness`` (m,) m: t / (lambda_1 lambda_2) for an ``incompressible`` law, else the
+      plane-stress sqrt(1 - 2 nu tr E / (1 - nu)) times t (m, rest ``thickness``);
+    - ``principal_stress`` (m, 2) Pa, the mid-surface stresses n_i / t_now;
+    - ``bending_stress`` (m, 2) Pa, the principal 6 M_i / t^2 on the surface the normal of
+      the rest triangle points to (the other surface's are their negatives; zero without
+      ``bending``);
+    - ``surface_stress`` (m,) Pa, the largest principal stress of the two surfaces' membrane
+      plus bending stress, and ``von_mises_stress`` (m,) Pa, the largest of their von Mises
+      stresses (the two tensors added in the rest frame, rotated back);
+    - ``green_strain`` and ``log_strain`` (m, 2) 1, principal, largest first;
+    - ``curvature`` (m, 2, 2) 1/m, the change of curvature in the rest frame (zero without
+      ``bending``)."""
+    n_rot, F = rotated_resultant(term, pos)
+    values, w = _principal(n_rot)
+    C = np.einsum("mki,mkj->mij", F, F)
+    c_values, c_vectors = np.linalg.eigh(C)
+    stretch = np.sqrt(np.maximum(c_values[:, ::-1], 0.0))
+    U_inv = np.einsum("mik,mk,mjk->mij", c_vectors, 1.0 / np.sqrt(np.maximum(c_values, 1e-300)),
+                      c_vectors)
+    direction = np.einsum("mki,mij,mj->mk", F, U_inv, w[:, :, 0])
+    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+    green = 0.5 * (stretch**2 - 1.0)
+    if incompressible:
+        lam3 = 1.0 / (stretch[:, 0] * stretch[:, 1])
+    else:
+        lam3 = np.sqrt(np.maximum(1.0 - 2.0 * poisson_ratio * green.sum(axis=1)
+                                  / (1.0 - poisson_ratio), 0.0))
+    t_now = thickness * lam3
+    membrane = n_rot / t_now[:, None, None]
+    m = len(term.triangles)
+    curvature = np.zeros((m, 2, 2))
+    if bending is not None:
+        curvature, _ = bending_curvature(bending, rest, pos, poisson_ratio)
+    trace = np.trace(curvature, axis1=1, axis2=2)
+    moment = flexural_rigidity * ((1 - poisson_ratio) * curvature
+                                  + poisson_ratio * trace[:, None, None] * np.eye(2))
+    bend = 6.0 * moment / thickness**2
+    surfaces = np.stack([membrane + bend, membrane - bend])          # (2, m, 2, 2)
+    top = np.stack([np.linalg.eigvalsh(s)[:, -1] for s in surfaces])
+    return dict(principal_resultant=values, principal_direction=direction, thickness=t_now,
+                principal_stress=values / t_now[:, None],
+                bending_stress=np.linalg.eigvalsh(bend)[:, ::-1],
+                surface_stress=top.max(axis=0),
+                von_mises_stress=np.maximum(_von_mises(surfaces[0]), _von_mises(surfaces[1])),
+                green_strain=green, log_strain=np.log(np.maximum(stretch, 1e-300)),
+                curvature=curvature)
+
+
 STRESS_LAWS: dict[type, Callable] = {HyperelasticLaw: _incompressible,
                                      SaintVenantKirchhoff: _svk}
 """law class -> (law, TriangleStrain, rest thickness m) -> (resultants (m, 2) N/m, current

@@ -54,7 +54,10 @@ def test_result_layout(ramp_runs):
         assert f["frames/liquid_volume"].attrs["units"] == "m^3"
     mesh_reader = meshio.xdmf.TimeSeriesReader(str(ramp_runs[0] / "frames.xdmf"))
     points, cells = mesh_reader.read_points_cells()
-    assert points.shape == (64, 3) and cells[0].type == "quad"
+    assert points.shape == (64, 3) and cells[0].type == "triangle"  # the stress fields' cells
+    assert cells[0].data.shape == (2 * 49, 3)
+    _, _, cell_data = mesh_reader.read_data(0)
+    assert cell_data["von_mises_stress"][0].shape == (2 * 49,)
     assert not list(ramp_runs[0].glob(".partial-*"))
     assert len(list((ramp_runs[0] / "plots").glob("cross_section_fill_*.png"))) == 3
 

@@ -6,6 +6,9 @@ On ``builder-inited`` this writes, under ``docs/_generated/``:
   :func:`fsi.scene.reference_markdown` (the table ``fsi scenes --reference`` prints);
 * ``outputs.md``: the datasets and attributes of ``result.h5`` with their units, from
   :func:`fsi.io.output.reference_markdown`;
+* ``diaphragm_outputs.md``: the diaphragm's stress, strain, topology, envelope, events and
+  cycles datasets with their shapes and units, from
+  :func:`fsi.analysis.diaphragm.reference_markdown`;
 * ``notebooks/*.ipynb``: copies of ``notebooks/*.ipynb``, which MyST-NB executes and renders.
 
 It also checks that every module of the packages has an ``automodule`` on a page of
@@ -33,6 +36,8 @@ REFERENCES = (
      "`fsi scenes --reference`)."),
     ("outputs.md", "fsi.io.output", "reference_markdown",
      "Generated from `fsi.io.output.reference_markdown()`."),
+    ("diaphragm_outputs.md", "fsi.analysis.diaphragm", "reference_markdown",
+     "Generated from `fsi.analysis.diaphragm.reference_markdown()`."),
 )
 
 

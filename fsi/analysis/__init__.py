@@ -1,1 +1,1 @@
-"""Comparisons and studies: Eqn 6.1, grid extrapolation, static against dynamic, the regime map behind `fsi advise`, the coupled convergence study."""
+"""Comparisons and studies: Eqn 6.1, grid extrapolation, the diaphragm's stresses, envelopes, topology events and fatigue, static against dynamic, the regime map behind `fsi advise`, the coupled convergence study."""

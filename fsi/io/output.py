@@ -15,7 +15,8 @@ Layout of ``result.h5`` (the documentation's output table is :func:`reference_ma
     ... and the other per-frame datasets a procedure records (each with a ``units`` attribute).
 
 The groups are :data:`GROUPS`. The XDMF series
-(membrane frames only) is stamped with ``frames/time`` where there is one, else with the fill
+(membrane frames only, on the triangles of the stress fields, with the cell data of
+:data:`XDMF_CELL_FIELDS`) is stamped with ``frames/time`` where there is one, else with the fill
 fraction.
 
 Files are written into a temporary folder inside the output folder and moved into place only
@@ -31,6 +32,8 @@ from pathlib import Path
 import h5py
 import meshio
 import numpy as np
+
+from structure.grid import triangles_from_quads
 
 UNITS = {
     "node_position": "m", "fill_fraction": "1", "target_fill_fraction": "1",
@@ -52,6 +55,13 @@ UNITS = {
     "lambda1": "1", "frequency_hz": "Hz", "omega": "rad/s", "slosh_mass_fraction": "1",
     "pendulum_length": "m", "spring_stiffness": "N/m", "static_compliance": "s^2",
     "modal_compliance": "s^2", "level": "m", "unstable_directions": "1", "membrane_dofs": "1",
+    "principal_resultant": "N/m", "principal_direction": "1", "principal_stress": "Pa",
+    "bending_stress": "Pa", "surface_stress": "Pa", "von_mises_stress": "Pa",
+    "green_strain": "1", "log_strain": "1", "thickness": "m", "fold_count": "1",
+    "inverted_area_fraction": "1", "inversion_front_deg": "deg", "wall_contact_area": "m^2",
+    "self_contact_nodes": "1", "peak_stress": "Pa", "peak_strain": "1", "polar_deg": "deg",
+    "azimuth_deg": "deg", "event": "1 (text)", "area": "m^2", "triangle": "1",
+    "stress_range": "Pa", "mean_stress": "Pa", "count": "1",
 }
 
 UNIT_PREFIXES = {"deflection_": "m", "centre_deflection_": "m", "valid_": "1"}
@@ -65,11 +75,11 @@ ATTR_UNITS = {
     "run_seconds": "s", "seconds_per_period": "s", "window": "s", "viscosity": "Pa s",
     "full_volume": "m^3", "empty_volume": "m^3", "start_volume": "m^3", "port_stub_volume": "m^3",
     "start_pressure_level": "Pa", "substep": "s", "centre_of_mass_amplitude": "m",
-    "first_mode_bound_hz": "Hz",
+    "first_mode_bound_hz": "Hz", "miner_damage": "1", "miner_damage_triangle": "1",
 }
 """Units of the run facts (result attributes) a sweep's dataset gathers."""
 
-UNIT_SUFFIXES = {"_std": None, "_height": "m", "_mass": "kg", "_hz": "Hz", "_seconds": "s",
+UNIT_SUFFIXES = {"_std": None, "_time": "s", "_fill_fraction": "1", "_deg": "deg", "_height": "m", "_mass": "kg", "_hz": "Hz", "_seconds": "s",
                  "_volume": "m^3"}
 """Units by the name's ending (``_std``: the units of the name without it)."""
 
@@ -90,6 +100,13 @@ GROUPS = {
     "modes": "a modes run's modes, one record per fill and mode",
     "shapes": "a modes run's mode shapes: the surface's elevation over the grid's columns, "
               "one record per fill",
+    "envelope": "per membrane triangle over the main sequence: its largest principal stress "
+                "and strain and when, and its place on the rest shape",
+    "events": "the membrane's topology changes over the main sequence, one row each: folds "
+              "forming and vanishing, wall contact, self-contact and inversion starting and "
+              "ending",
+    "cycles": "the rainflow cycles of the stress of the most loaded triangles in a run in "
+              "time, one row each",
 }
 """Groups of ``result.h5`` -> what they hold."""
 
@@ -122,9 +139,18 @@ def units_of(name: str) -> str:
     return next((u for prefix, u in UNIT_PREFIXES.items() if name.startswith(prefix)), "")
 
 
+MAIN_GROUP = "frames"
+"""The main sequence of membrane frames: the XDMF series, the envelope and the events."""
+
+
+def frame_stamp(group: dict) -> str:
+    """What stamps a group's frames: ``time`` (s) where it has one, else ``fill_fraction``."""
+    return "time" if "time" in group else "fill_fraction"
+
+
 RESULT_FILE = "result.h5"
 XDMF_FILE = "frames.xdmf"
-XDMF_FILES = {"frames": XDMF_FILE, "drain": "drain.xdmf"}
+XDMF_FILES = {MAIN_GROUP: XDMF_FILE, "drain": "drain.xdmf"}
 """Groups written as ParaView time series (the fill leg and a static sweep's draining leg)."""
 
 
@@ -176,8 +202,16 @@ def write_result(out_dir: Path, scene, model, result) -> Path:
     return out_dir / RESULT_FILE
 
 
+XDMF_CELL_FIELDS = {"von_mises_stress": None, "surface_stress": None,
+                    "principal_stress": ("principal_stress_1", "principal_stress_2"),
+                    "log_strain": ("log_strain_1", "log_strain_2"),
+                    "principal_direction": None}
+"""Per-triangle datasets written as XDMF cell data -> the names of their components written
+as scalars (None: as they are)."""
+
+
 def _write_xdmf(folder: Path, model, frames: dict, name: str) -> None:
-    cells = [("quad", model.face_nodes)]
+    cells = [("triangle", triangles_from_quads(model.face_nodes))]
     cwd = os.getcwd()
     os.chdir(folder)  # meshio names its heavy-data file relative to the working folder
     try:
@@ -185,10 +219,20 @@ def _write_xdmf(folder: Path, model, frames: dict, name: str) -> None:
             writer.write_points_cells(model.node_rest_position, cells)
             for k in range(frames["node_position"].shape[0]):
                 disp = frames["node_position"][k] - model.node_rest_position
-                stamp = frames["time"][k] if "time" in frames else frames["fill_fraction"][k]
+                stamp = frames[frame_stamp(frames)][k]
+                cell_data = {}
+                for key, parts in XDMF_CELL_FIELDS.items():
+                    if key not in frames:
+                        continue
+                    value = np.asarray(frames[key][k], dtype=np.float64)
+                    if parts is None:
+                        cell_data[key] = [value]
+                    else:
+                        cell_data.update({p: [value[:, i]] for i, p in enumerate(parts)})
                 writer.write_data(float(stamp),
                                   point_data={"displacement": disp,
-                                              "fixed": model.node_fixed.astype(np.float64)})
+                                              "fixed": model.node_fixed.astype(np.float64)},
+                                  cell_data=cell_data)
     finally:
         os.chdir(cwd)
 

@@ -11,7 +11,9 @@
 * ``slosh.png`` (slosh runs): the tank's acceleration, the liquid's centre of mass, the force
   and moment on the tank and the energies against time;
 * ``plate_profiles.png``, ``plate_profiles_nondimensional.png``, ``plate_radius_trend.png``
-  (plate-estimate runs): thesis Figs 3.2-3.4, every closed form, dashed outside its range.
+  (plate-estimate runs): thesis Figs 3.2-3.4, every closed form, dashed outside its range;
+* ``stress_envelope.png`` and ``diaphragm_history.png`` (every run with membrane frames):
+  :mod:`fsi.io.stress_plots`.
 
 Each procedure whose results are not membrane frames registers its plots in :data:`PLOTS`.
 """
@@ -28,6 +30,7 @@ import numpy as np  # noqa: E402
 from fsi.io import modes_plots as _modes_plots  # noqa: E402,F401  (registers its plots)
 from fsi.io.output import read_result  # noqa: E402
 from fsi.io.plot_registry import PLOTS, register_plots, save as _save  # noqa: E402
+from fsi.io.stress_plots import stress_plots  # noqa: E402
 
 
 def middle_column(pos: np.ndarray, n: int) -> np.ndarray:
@@ -48,7 +51,8 @@ def make_plots(run_dir) -> list[Path]:
     res = read_result(run_dir)
     out = run_dir / "plots"
     out.mkdir(exist_ok=True)
-    return PLOTS.get(res["attrs"].get("procedure"), membrane_plots)(res, out)
+    return PLOTS.get(res["attrs"].get("procedure"), membrane_plots)(res, out) \
+        + stress_plots(res, out)
 
 
 def membrane_plots(res: dict, out: Path) -> list[Path]:

@@ -1,0 +1,196 @@
+"""What a run did to the diaphragm, added to its result before it is written.
+
+:func:`annotate` adds to every group of membrane frames (``node_position``) the stress, strain
+and topology datasets of :mod:`fsi.analysis.membrane_fields`, from the law the run used; and,
+over the main sequence (:data:`fsi.analysis.envelope.ENVELOPE_GROUP`):
+
+- group ``envelope`` and the peak's attributes (:mod:`fsi.analysis.envelope`);
+- group ``events``, the topology's changes (:mod:`fsi.analysis.events`);
+- for frames in time, group ``cycles``: the rainflow cycles of the most loaded triangles'
+  stress, and with the scene's S-N curve the attribute ``miner_damage`` (per run of the
+  scene) and ``miner_damage_triangle`` (:mod:`fsi.analysis.fatigue`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from fsi.analysis.envelope import ENVELOPE_GROUP, envelope, peak_attributes, stamp_name
+from fsi.analysis.events import topology_events
+from fsi.analysis.fatigue import miner_damage, stress_cycles
+from fsi.analysis.membrane_fields import FIELD_RULES, SheetGeometry, group_fields
+
+
+def membrane_groups(result) -> list[str]:
+    """The groups of ``result`` that hold membrane frames."""
+    return [name for name, g in result.groups.items()
+            if "node_position" in g and len(g["node_position"]) > 0]
+
+
+def cycles_of(group: dict, peak_stress: np.ndarray, how_many: int) -> dict:
+    """The ``cycles`` group: rainflow cycles of the ``how_many`` triangles of largest
+    ``peak_stress`` (m,) Pa over ``group``'s ``surface_stress`` history."""
+    rows = []
+    for t in np.argsort(peak_stress)[::-1][:how_many]:
+        for r, mean, count in stress_cycles(group["surface_stress"][:, t]):
+            rows.append((t, r, mean, count))
+    a = np.asarray(rows, dtype=float).reshape(-1, 4)
+    return dict(triangle=a[:, 0].astype(np.int64), stress_range=a[:, 1], mean_stress=a[:, 2],
+                count=a[:, 3])
+
+
+def annotate(setup, result) -> None:
+    """Add the diaphragm's fields, envelope, events and cycles to ``result`` (module doc)."""
+    names = membrane_groups(result)
+    if not names:
+        return
+    model = setup.model
+    rule = FIELD_RULES[setup.structure_model](model, setup.scene)
+    geometry = SheetGeometry.of(model, rule.term.triangles)
+    result.attrs["stress_law"] = rule.law
+    for name in names:
+        group = result.groups[name]
+        fields, folds = group_fields(rule, geometry, model, group["node_position"])
+        group.update(fields)
+        if name != ENVELOPE_GROUP:
+            continue
+        stamp = stamp_name(group)
+        env = envelope(group, geometry.rest_polar, geometry.rest_azimuth)
+        result.groups["envelope"] = env
+        result.attrs.update(peak_attributes(env, stamp))
+        free_area = float(geometry.node_area[~model.node_fixed].sum())
+        events = topology_events(np.asarray(group[stamp], float), fields, folds,
+                                 geometry.triangle_area, geometry.rest_polar,
+                                 geometry.rest_azimuth, free_area)
+        result.groups["events"] = {stamp: events.pop("at"), **events}
+        if stamp != "time":
+            continue
+        fatigue = setup.scene["fatigue"]
+        cycles = cycles_of(group, env["peak_stress"], fatigue["peak_triangles"])
+        result.groups["cycles"] = cycles
+        if fatigue["sn_curve"]:
+            damage = [miner_damage(np.stack([cycles["stress_range"][cycles["triangle"] == t],
+                                             cycles["mean_stress"][cycles["triangle"] == t],
+                                             cycles["count"][cycles["triangle"] == t]], 1),
+                                   fatigue["sn_curve"])
+                      for t in np.unique(cycles["triangle"])]
+            worst = int(np.argmax(damage))
+            result.attrs["miner_damage"] = float(damage[worst])
+            result.attrs["miner_damage_triangle"] = int(np.unique(cycles["triangle"])[worst])
+
+
+def summary_lines(res: dict) -> list[str]:
+    """What ``fsi show`` says of the diaphragm of a read result (:func:`fsi.io.output.
+    read_result`): the peak stress and strain with their place and stamp, the folds and
+    the events, the largest stress cycles and Miner's damage; none without membrane
+    frames."""
+    a = res["attrs"]
+    if "peak_stress" not in a:
+        return []
+    stamp = "time" if "peak_stress_time" in a else "fill_fraction"
+    unit = " s" if stamp == "time" else ""
+    label = "t =" if stamp == "time" else "fill"
+
+    def peak(name, value):
+        return (f"{value} at polar {a[f'{name}_polar_deg']:.1f} deg, azimuth "
+                f"{a[f'{name}_azimuth_deg']:.1f} deg, {label} {a[f'{name}_{stamp}']:.4g}{unit}")
+
+    lines = [f"  stress ({a.get('stress_law', '?')}): peak "
+             + peak("peak_stress", f"{a['peak_stress'] / 1e6:.4g} MPa"),
+             "  strain: peak log strain " + peak("peak_strain", f"{a['peak_strain']:.4g}")]
+    frames = res.get("frames", {})
+    if "fold_count" in frames:
+        folds = np.asarray(frames["fold_count"])
+        contact = np.asarray(frames["wall_contact_area"])
+        lines.append(f"  folds: {int(folds.max())} at most ({int(folds[-1])} at the end); wall "
+                     f"contact up to {contact.max():.4g} m^2; self-contact in "
+                     f"{int(np.count_nonzero(frames['self_contact_nodes']))} frames")
+    events = res.get("events", {})
+    if "event" in events:
+        kinds, counts = np.unique([e.decode() if isinstance(e, bytes) else str(e)
+                                   for e in events["event"]], return_counts=True)
+        text = ", ".join(f"{k} {c}" for k, c in zip(kinds, counts)) or "none"
+        lines.append(f"  events: {len(events['event'])} ({text})")
+    cycles = res.get("cycles", {})
+    if "stress_range" in cycles and len(cycles["stress_range"]):
+        k = int(np.argmax(cycles["stress_range"]))
+        damage = (f"Miner damage {a['miner_damage']:.3g} per run (triangle "
+                  f"{a['miner_damage_triangle']})" if "miner_damage" in a
+                  else "no S-N curve in the scene (fatigue.sn_curve)")
+        lines.append(f"  cycles: {len(cycles['stress_range'])} over "
+                     f"{len(np.unique(cycles['triangle']))} triangles, largest range "
+                     f"{cycles['stress_range'][k] / 1e6:.4g} MPa (count "
+                     f"{cycles['count'][k]:g}); {damage}")
+    return lines
+
+
+DATASETS = {
+    "<frames>/principal_resultant": ("(f, m, 2)", "principal Cauchy membrane resultants, "
+                                     "largest first"),
+    "<frames>/principal_direction": ("(f, m, 3)", "unit direction of the first, now"),
+    "<frames>/principal_stress": ("(f, m, 2)", "principal mid-surface stresses, resultant / "
+                                  "current thickness"),
+    "<frames>/bending_stress": ("(f, m, 2)", "principal bending stresses 6 M / t^2 on one "
+                                "surface (the other's are their negatives)"),
+    "<frames>/surface_stress": ("(f, m)", "largest principal stress of the two surfaces, "
+                                "membrane plus bending"),
+    "<frames>/von_mises_stress": ("(f, m)", "largest von Mises stress of the two surfaces"),
+    "<frames>/green_strain": ("(f, m, 2)", "principal Green-Lagrange strains"),
+    "<frames>/log_strain": ("(f, m, 2)", "principal logarithmic strains"),
+    "<frames>/thickness": ("(f, m)", "current thickness"),
+    "<frames>/fold_count": ("(f,)", "folds: clusters of wrinkled or creased triangles"),
+    "<frames>/inverted_area_fraction": ("(f,)", "share of the free sheet across the rim's "
+                                        "plane"),
+    "<frames>/inversion_front_deg": ("(f,)", "rest polar angle of the cap of that share"),
+    "<frames>/wall_contact_area": ("(f,)", "rest area of the free nodes on the tank wall"),
+    "<frames>/self_contact_nodes": ("(f,)", "nodes touching a node not near them at rest"),
+    "envelope/peak_stress": ("(m,)", "each triangle's largest surface_stress over the run"),
+    "envelope/peak_stress_time": ("(m,)", "when, in a run in time"),
+    "envelope/peak_stress_fill_fraction": ("(m,)", "at which fill, in a static sweep"),
+    "envelope/peak_strain": ("(m,)", "each triangle's largest principal log strain"),
+    "envelope/peak_strain_time, peak_strain_fill_fraction": ("(m,)", "when, or at which "
+                                                              "fill"),
+    "envelope/polar_deg, azimuth_deg": ("(m,)", "each triangle's place on the rest shape"),
+    "events/time, fill_fraction": ("(e,)", "the frame where a topology change is first "
+                                   "seen (its time in a run in time, else its fill)"),
+    "events/event": ("(e,)", "what changed: fold forms / vanishes, wall contact, self-contact "
+                     "or inversion starts / ends"),
+    "events/polar_deg, azimuth_deg": ("(e,)", "where a fold is (NaN for the others)"),
+    "events/area": ("(e,)", "the fold's rest area, the contact area, the inverted area"),
+    "cycles/triangle": ("(c,)", "which of the most loaded triangles"),
+    "cycles/stress_range, mean_stress": ("(c,)", "its rainflow cycles"),
+    "cycles/count": ("(c,)", "1, or 0.5 for a half cycle"),
+}
+"""The datasets :func:`annotate` writes -> (shape, meaning); f frames, m triangles (two per
+quad of ``/membrane/face_nodes``, :func:`structure.grid.triangles_from_quads`), e events,
+c cycles."""
+
+ATTRIBUTES = {
+    "stress_law": "what the stresses are from (the run's law)",
+    "peak_stress": "the run's largest surface stress",
+    "peak_stress_time, peak_stress_fill_fraction": "when, or at which fill",
+    "peak_stress_polar_deg, peak_stress_azimuth_deg": "where, on the rest shape",
+    "peak_strain": "the run's largest principal log strain",
+    "peak_strain_time, peak_strain_fill_fraction": "when, or at which fill",
+    "peak_strain_polar_deg, peak_strain_azimuth_deg": "where, on the rest shape",
+    "miner_damage, miner_damage_triangle": "Miner's damage per run of the scene, largest over "
+                                           "the counted triangles, and which (with "
+                                           "fatigue.sn_curve only)",
+}
+"""The attributes :func:`annotate` writes -> meaning."""
+
+
+def reference_markdown() -> str:
+    """The table of :data:`DATASETS` and :data:`ATTRIBUTES` with their units
+    (:func:`fsi.io.output.units_of`), for the user guide."""
+    from fsi.io.output import units_of
+
+    def unit(name):
+        units = [units_of(n.strip()) or "-" for n in name.split("/")[-1].split(",")]
+        return ", ".join(dict.fromkeys(units))
+
+    rows = ["| dataset | shape | units | meaning |", "|---|---|---|---|"]
+    rows += [f"| `{name}` | {shape} | {unit(name)} | {text} |"
+             for name, (shape, text) in DATASETS.items()]
+    rows += ["", "| attribute | units | meaning |", "|---|---|---|"]
+    rows += [f"| `{name}` | {unit(name)} | {text} |" for name, text in ATTRIBUTES.items()]
+    return "\n".join(rows)

@@ -1,0 +1,185 @@
+"""Stress, strain and topology of every membrane frame a run recorded, from the run's own law.
+
+Each structure model a run can use has a :class:`FieldRule` in :data:`FIELD_RULES` (filled by
+:func:`field_rule`): the membrane term whose energy gives the stresses
+(:func:`structure.stress.sheet_fields`), whether the law is incompressible, the bending model
+and whether the tension field marks wrinkles. :func:`frame_fields` gives, per frame, the
+per-triangle fields (stored as float32, the units in :data:`fsi.io.output.UNITS`) and the
+topology series of :mod:`structure.topology`:
+
+- ``fold_count``: the folds, clusters of triangles on the tension field's wrinkled branch or
+  creased (:func:`structure.topology.creased`), over triangles with a free node;
+- ``inverted_area_fraction`` and ``inversion_front_deg``;
+- ``wall_contact_area`` (m^2) and ``self_contact_nodes``.
+
+Models (the structure model names of :mod:`fsi.setup.models`):
+
+- ``xpbd``: the XPBD blocks (relaxed by the tension field where the material says so) with
+  the model's midedge bending;
+- ``shell``: the shell's law (Saint Venant-Kirchhoff or neo-Hookean) and bending;
+- ``thesis``: the particle membrane's in-plane springs are strain limits (App. G), not a law,
+  so its stresses are those of Saint Venant-Kirchhoff (E, nu of the scene) at its strains,
+  with the midedge bending of the same D; ``stress_law`` says so in the result.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from structure.bending import MidedgeBending
+from structure.grid import triangles_from_quads
+from structure.hyperelastic import HyperelasticLaw, SaintVenantKirchhoff, TriangleMembrane
+from structure.kernels import node_area_and_normal
+from structure.model import MembraneModel
+from structure.shell import ShellModel, ShellSettings
+from structure.stress import sheet_fields
+from structure.tangent.membrane import MembraneTerm, regimes
+from structure.topology import (creased, fold_clusters, inverted_area_fraction, rest_angles,
+                                self_contact_nodes, triangle_adjacency, wall_contact_area)
+from structure.xpbd.kernels import WRINKLED
+from structure.xpbd.model import XpbdModel
+
+TRIANGLE_FIELDS = ("principal_resultant", "principal_direction", "principal_stress",
+                   "bending_stress", "surface_stress", "von_mises_stress", "green_strain",
+                   "log_strain", "thickness")
+"""Per-triangle datasets of a membrane frame (:func:`structure.stress.sheet_fields`)."""
+TOPOLOGY_SERIES = ("fold_count", "inverted_area_fraction", "inversion_front_deg",
+                   "wall_contact_area", "self_contact_nodes")
+"""Per-frame topology datasets of a membrane frame (module doc)."""
+
+
+@dataclass(frozen=True)
+class FieldRule:
+    """What a run's stresses come from: ``law`` (text, for the result), ``term``
+    (:class:`structure.tangent.membrane.MembraneTerm`), ``incompressible``, ``bending``
+    (or None), ``tension_field`` (wrinkles from its regimes), and the model's D (N m), nu and
+    rest thickness (m)."""
+
+    law: str
+    term: MembraneTerm
+    incompressible: bool
+    bending: Optional[MidedgeBending]
+    tension_field: bool
+    flexural_rigidity: float
+    poisson_ratio: float
+    thickness: float
+
+
+FIELD_RULES: dict[str, Callable[[MembraneModel, object], FieldRule]] = {}
+"""structure model name -> (MembraneModel, scene) -> :class:`FieldRule`."""
+
+
+def field_rule(name: str):
+    """Register the :class:`FieldRule` builder of structure model ``name``."""
+    def register(build):
+        FIELD_RULES[name] = build
+        return build
+    return register
+
+
+@field_rule("xpbd")
+def _xpbd(model: MembraneModel, scene) -> FieldRule:
+    xpbd = XpbdModel.from_membrane(model)
+    mat = model.material
+    law = "xpbd tension field" if xpbd.tension_field else "xpbd plane stress"
+    return FieldRule(law, MembraneTerm.from_xpbd(xpbd), False, xpbd.bending, xpbd.tension_field,
+                     mat.flexural_rigidity, mat.poisson_ratio, mat.thickness)
+
+
+@field_rule("shell")
+def _shell(model: MembraneModel, scene) -> FieldRule:
+    shell = ShellModel.from_membrane(model, ShellSettings(law=scene["structure"]["shell_law"]))
+    mat = model.material
+    nu = getattr(shell.law, "poisson_ratio", mat.poisson_ratio)
+    return FieldRule(scene["structure"]["shell_law"],
+                     MembraneTerm.from_triangle_membrane(shell.membrane, shell.law),
+                     isinstance(shell.law, HyperelasticLaw), shell.bending, False,
+                     mat.flexural_rigidity, nu, mat.thickness)
+
+
+@field_rule("thesis")
+def _thesis(model: MembraneModel, scene) -> FieldRule:
+    mat = model.material
+    tri = triangles_from_quads(model.face_nodes)
+    nu = min(mat.poisson_ratio, 0.4999)
+    membrane = TriangleMembrane(model.node_rest_position, tri, mat.thickness)
+    bending = MidedgeBending.build(model.node_rest_position, tri, mat.flexural_rigidity,
+                                   mat.poisson_ratio)
+    return FieldRule("saint-venant-kirchhoff at the thesis membrane's strains",
+                     MembraneTerm.from_triangle_membrane(
+                         membrane, SaintVenantKirchhoff(mat.youngs_modulus, nu)),
+                     False, bending, False, mat.flexural_rigidity, nu, mat.thickness)
+
+
+@dataclass(frozen=True)
+class SheetGeometry:
+    """The rest data the topology needs: ``adjacency`` of the triangles, ``free_triangle``
+    (m,) a triangle with a free node, ``node_area`` (n,) m^2 at rest, ``rest_polar`` and
+    ``rest_azimuth`` (m,) deg of the triangles' rest centroids, ``triangle_area`` (m,) m^2,
+    ``flat`` rest shape, ``rim_height`` (m), ``min_edge`` (m)."""
+
+    adjacency: np.ndarray
+    free_triangle: np.ndarray
+    node_area: np.ndarray
+    rest_polar: np.ndarray
+    rest_azimuth: np.ndarray
+    triangle_area: np.ndarray
+    flat: bool
+    rim_height: float
+    min_edge: float
+
+    @classmethod
+    def of(cls, model: MembraneModel, triangles: np.ndarray) -> "SheetGeometry":
+        rest = model.node_rest_position
+        flat = bool(np.ptp(rest[:, 2]) == 0)
+        polar, azimuth = rest_angles(rest[triangles].mean(axis=1), model.radius, flat)
+        area, _ = node_area_and_normal(rest, model.grid_size, 1.0)
+        e = rest[triangles[:, [1, 2, 0]]] - rest[triangles]
+        tri_area = 0.5 * np.linalg.norm(np.cross(e[:, 0], -e[:, 2]), axis=1)
+        return cls(triangle_adjacency(triangles), ~model.node_fixed[triangles].all(axis=1), area,
+                   polar, azimuth, tri_area, flat, float(rest[model.node_fixed, 2].mean()),
+                   float(np.linalg.norm(e, axis=2).min()))
+
+
+def folded_triangles(rule: FieldRule, geometry: SheetGeometry, pos: np.ndarray,
+                     curvature: np.ndarray, radius: float) -> np.ndarray:
+    """(m,) bool: the triangles a fold covers at ``pos`` (module doc)."""
+    folded = creased(curvature, radius)
+    if rule.tension_field:
+        folded |= regimes(rule.term, pos) == WRINKLED
+    return folded & geometry.free_triangle
+
+
+def frame_fields(rule: FieldRule, geometry: SheetGeometry, model: MembraneModel,
+                 pos: np.ndarray) -> tuple[dict, list[np.ndarray]]:
+    """The datasets of one frame at ``pos`` (n, 3) m (module doc) and its folds (triangle
+    index arrays)."""
+    fields = sheet_fields(rule.term, pos, rule.thickness, rule.incompressible, rule.bending,
+                          model.node_rest_position, rule.flexural_rigidity, rule.poisson_ratio)
+    folds = fold_clusters(folded_triangles(rule, geometry, pos, fields.pop("curvature"),
+                                           model.radius), geometry.adjacency)
+    free = ~model.node_fixed
+    fraction, front = inverted_area_fraction(model.node_rest_position, pos, geometry.node_area,
+                                             free, geometry.rim_height)
+    out = {k: fields[k].astype(np.float32) for k in TRIANGLE_FIELDS}
+    out.update(fold_count=len(folds), inverted_area_fraction=fraction,
+               inversion_front_deg=front,
+               wall_contact_area=wall_contact_area(pos, geometry.node_area, free, model.radius,
+                                                   geometry.min_edge),
+               self_contact_nodes=len(self_contact_nodes(model.node_rest_position, pos,
+                                                         geometry.min_edge)))
+    return out, folds
+
+
+def group_fields(rule: FieldRule, geometry: SheetGeometry, model: MembraneModel,
+                 node_position: np.ndarray) -> tuple[dict, list[list[np.ndarray]]]:
+    """:func:`frame_fields` over frames ``node_position`` (f, n, 3) m, stacked with a leading
+    frame axis, and each frame's folds."""
+    records, folds = [], []
+    for pos in node_position:
+        record, frame_folds = frame_fields(rule, geometry, model, pos)
+        records.append(record)
+        folds.append(frame_folds)
+    return {k: np.asarray([r[k] for r in records]) for k in records[0]}, folds
