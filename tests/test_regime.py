@@ -13,9 +13,12 @@ from fsi.analysis.regime import FIXED_ADVICE, advise, advise_scene, load_table, 
 from fsi.scene import load_scene
 from fsi.slosh.modal import tank_modes
 
-ROWS = [dict(pressure_ratio=1e-3, eqn_6_1=0.01, level_difference=-2.0, centre_distance_mm=0.01),
-        dict(pressure_ratio=1e-1, eqn_6_1=0.5, level_difference=300.0, centre_distance_mm=0.3),
-        dict(pressure_ratio=1e-2, eqn_6_1=0.1, level_difference=20.0, centre_distance_mm=0.1)]
+ROWS = [dict(pressure_ratio=1e-3, eqn_6_1=0.01, level_difference=-2.0, centre_distance_mm=0.01,
+             stress_ratio=1.0),
+        dict(pressure_ratio=1e-1, eqn_6_1=0.5, level_difference=300.0, centre_distance_mm=0.3,
+             stress_ratio=1.5),
+        dict(pressure_ratio=1e-2, eqn_6_1=0.1, level_difference=20.0, centre_distance_mm=0.1,
+             stress_ratio=1.1)]
 
 
 def test_regime_of_the_bundled_fill_by_hand():
@@ -47,9 +50,10 @@ def test_a_lateral_impulse_adds_rho_a_r():
 def test_prediction_interpolates_in_log_pi_p_and_never_falls():
     p = predicted(np.sqrt(1e-3 * 1e-2), ROWS)
     assert p["eqn_6_1"] == pytest.approx(0.055) and not p["extrapolated"]
+    assert p["stress_ratio"] == pytest.approx(1.05)
     assert predicted(1.0, ROWS)["eqn_6_1"] == 0.5 and predicted(1.0, ROWS)["extrapolated"]
     bumpy = ROWS + [dict(pressure_ratio=3e-2, eqn_6_1=0.05, level_difference=1.0,
-                         centre_distance_mm=0.0)]
+                         centre_distance_mm=0.0, stress_ratio=1.0)]
     assert predicted(3e-2, bumpy)["eqn_6_1"] == pytest.approx(0.1)  # the largest so far
 
 
@@ -57,6 +61,7 @@ def test_advice_follows_the_asked_accuracy_and_gives_its_numbers():
     scene = load_scene("diaphragm-fill")  # Pi_p = 0.018: about 0.11 % by ROWS
     model, lines = advise(scene, 1.0, ROWS)
     assert model == "static" and "0.0181" in lines[0] and "0.27 " in lines[1]
+    assert "peak stress x 1.2 " in lines[2]  # 1.1 + 0.4 log10(0.0181 / 0.01)
     assert advise(scene, 0.05, ROWS)[0] == "coupled"
     assert advise_scene(load_scene("slosh-half"), 1.0, ROWS)[0] == FIXED_ADVICE["slosh"][0]
     assert advise_scene(load_scene("thesis-static"), 1.0, ROWS)[0] == "static"

@@ -2,7 +2,7 @@
 
 :func:`annotate` adds to every group of membrane frames (``node_position``) the stress, strain
 and topology datasets of :mod:`fsi.analysis.membrane_fields`, from the law the run used; and,
-over the main sequence (:data:`fsi.analysis.envelope.ENVELOPE_GROUP`):
+over the main sequence (:data:`fsi.io.output.MAIN_GROUP`):
 
 - group ``envelope`` and the peak's attributes (:mod:`fsi.analysis.envelope`);
 - group ``events``, the topology's changes (:mod:`fsi.analysis.events`);
@@ -14,10 +14,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from fsi.analysis.envelope import ENVELOPE_GROUP, envelope, peak_attributes, stamp_name
+from fsi.analysis.envelope import envelope, peak_attributes, stamp_name
 from fsi.analysis.events import topology_events
 from fsi.analysis.fatigue import miner_damage, stress_cycles
 from fsi.analysis.membrane_fields import FIELD_RULES, SheetGeometry, group_fields
+from fsi.io.output import MAIN_GROUP as ENVELOPE_GROUP
 
 
 def membrane_groups(result) -> list[str]:

@@ -1,7 +1,7 @@
 """Envelopes of a run's membrane frames: per triangle, the largest stress and strain and when.
 
-Over the frames of one group (the main sequence, ``frames``), stamped by ``time`` (s) or, for
-a static sweep, by ``fill_fraction``:
+Over the frames of one group (the main sequence, :data:`fsi.io.output.MAIN_GROUP`), stamped
+by ``time`` (s) or, for a static sweep, by ``fill_fraction``:
 
 - ``peak_stress`` (m,) Pa: the largest principal stress over the two surfaces
   (``surface_stress``), and ``peak_stress_<stamp>`` when it occurred;
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fsi.io.output import MAIN_GROUP as ENVELOPE_GROUP, frame_stamp as stamp_name
+from fsi.io.output import frame_stamp as stamp_name
 
 
 def envelope(group: dict, polar: np.ndarray, azimuth: np.ndarray) -> dict:

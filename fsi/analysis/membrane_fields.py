@@ -54,8 +54,8 @@ TOPOLOGY_SERIES = ("fold_count", "inverted_area_fraction", "inversion_front_deg"
 class FieldRule:
     """What a run's stresses come from: ``law`` (text, for the result), ``term``
     (:class:`structure.tangent.membrane.MembraneTerm`), ``incompressible``, ``bending``
-    (or None), ``tension_field`` (wrinkles from its regimes), and the model's D (N m), nu and
-    rest thickness (m)."""
+    (or None), ``tension_field`` (wrinkles from its regimes), the model's D (N m), nu, rest
+    thickness (m) and rest positions (n, 3) m."""
 
     law: str
     term: MembraneTerm
@@ -65,6 +65,12 @@ class FieldRule:
     flexural_rigidity: float
     poisson_ratio: float
     thickness: float
+    rest: np.ndarray
+
+    def sheet(self, pos: np.ndarray) -> dict:
+        """:func:`structure.stress.sheet_fields` at ``pos`` (n, 3) m under this rule."""
+        return sheet_fields(self.term, pos, self.thickness, self.incompressible, self.bending,
+                            self.rest, self.flexural_rigidity, self.poisson_ratio)
 
 
 FIELD_RULES: dict[str, Callable[[MembraneModel, object], FieldRule]] = {}
@@ -85,7 +91,8 @@ def _xpbd(model: MembraneModel, scene) -> FieldRule:
     mat = model.material
     law = "xpbd tension field" if xpbd.tension_field else "xpbd plane stress"
     return FieldRule(law, MembraneTerm.from_xpbd(xpbd), False, xpbd.bending, xpbd.tension_field,
-                     mat.flexural_rigidity, mat.poisson_ratio, mat.thickness)
+                     mat.flexural_rigidity, mat.poisson_ratio, mat.thickness,
+                     model.node_rest_position)
 
 
 @field_rule("shell")
@@ -96,7 +103,7 @@ def _shell(model: MembraneModel, scene) -> FieldRule:
     return FieldRule(scene["structure"]["shell_law"],
                      MembraneTerm.from_triangle_membrane(shell.membrane, shell.law),
                      isinstance(shell.law, HyperelasticLaw), shell.bending, False,
-                     mat.flexural_rigidity, nu, mat.thickness)
+                     mat.flexural_rigidity, nu, mat.thickness, model.node_rest_position)
 
 
 @field_rule("thesis")
@@ -110,7 +117,8 @@ def _thesis(model: MembraneModel, scene) -> FieldRule:
     return FieldRule("saint-venant-kirchhoff at the thesis membrane's strains",
                      MembraneTerm.from_triangle_membrane(
                          membrane, SaintVenantKirchhoff(mat.youngs_modulus, nu)),
-                     False, bending, False, mat.flexural_rigidity, nu, mat.thickness)
+                     False, bending, False, mat.flexural_rigidity, nu, mat.thickness,
+                     model.node_rest_position)
 
 
 @dataclass(frozen=True)
@@ -156,8 +164,7 @@ def frame_fields(rule: FieldRule, geometry: SheetGeometry, model: MembraneModel,
                  pos: np.ndarray) -> tuple[dict, list[np.ndarray]]:
     """The datasets of one frame at ``pos`` (n, 3) m (module doc) and its folds (triangle
     index arrays)."""
-    fields = sheet_fields(rule.term, pos, rule.thickness, rule.incompressible, rule.bending,
-                          model.node_rest_position, rule.flexural_rigidity, rule.poisson_ratio)
+    fields = rule.sheet(pos)
     folds = fold_clusters(folded_triangles(rule, geometry, pos, fields.pop("curvature"),
                                            model.radius), geometry.adjacency)
     free = ~model.node_fixed

@@ -106,18 +106,23 @@ def slosh_periods(scene) -> tuple[tuple, tuple]:
 
 def load_table(path: Path = REGIME_TABLE_FILE) -> list[dict]:
     """The measured rows: pressure_ratio, time_ratio, eqn_6_1 (%), level_difference (Pa),
-    centre_distance_mm, and the run's name and flow."""
+    centre_distance_mm, stress_ratio (the dynamic amplification of the sheet's peak
+    stress), and the run's name and flow."""
     return json.loads(Path(path).read_text())["runs"]
 
 
+PREDICTED = ("eqn_6_1", "level_difference", "centre_distance_mm", "stress_ratio")
+"""The measures :func:`predicted` interpolates between the table's runs."""
+
+
 def predicted(pressure_ratio: float, rows: list[dict]) -> dict:
-    """The static-against-dynamic differences at ``pressure_ratio``: each measure
-    interpolated in log Pi_p through the measured runs sorted by Pi_p (the largest so far,
+    """The static-against-dynamic differences at ``pressure_ratio``: each measure of
+    :data:`PREDICTED` that every row has interpolated in log Pi_p through the measured runs sorted by Pi_p (the largest so far,
     so the prediction never falls as Pi_p grows), and ``extrapolated`` when outside them."""
     rows = sorted(rows, key=lambda r: r["pressure_ratio"])
     x = np.log10([r["pressure_ratio"] for r in rows])
     out = {}
-    for key in ("eqn_6_1", "level_difference", "centre_distance_mm"):
+    for key in (k for k in PREDICTED if all(k in r for r in rows)):
         y = np.maximum.accumulate(np.abs([r[key] for r in rows]))
         out[key] = float(np.interp(np.log10(pressure_ratio), x, y))
     out["extrapolated"] = not x[0] <= np.log10(pressure_ratio) <= x[-1]
@@ -140,7 +145,9 @@ def advise(scene, accuracy: float, rows: list[dict]) -> tuple[str, list[str]]:
              f"measured static-against-dynamic difference at this Pi_p "
              f"({'beyond the measured range: its nearest end' if p['extrapolated'] else 'interpolated'}"
              f", {len(rows)} runs): Eqn 6.1 {p['eqn_6_1']:.3g} %, pressure level "
-             f"{p['level_difference']:.3g} Pa, centre of mass {p['centre_distance_mm']:.3g} mm"]
+             f"{p['level_difference']:.3g} Pa, centre of mass {p['centre_distance_mm']:.3g} mm"
+             + (f", peak stress x {p['stress_ratio']:.3g} of the static model's (the dynamic "
+                "amplification)" if "stress_ratio" in p else "")]
     model = "static" if p["eqn_6_1"] <= accuracy else "coupled"
     lines.append(f"asked accuracy {accuracy:g} % Eqn 6.1: "
                  + ("the static (hydrostatic) model is enough" if model == "static" else

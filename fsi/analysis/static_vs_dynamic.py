@@ -7,7 +7,11 @@ sweep's frame nearest to it are compared by
 * the shape, thesis Eqn 6.1 (%), the static frame as reference (:mod:`fsi.analysis.compare`);
 * the pressure level, dynamic minus static (Pa, the uniform level at the tank centre);
 * the liquid's centre of mass, the distance between the two (mm), from the membrane's
-  enclosed volume and first moment (:func:`structure.volume.liquid_first_moment`).
+  enclosed volume and first moment (:func:`structure.volume.liquid_first_moment`);
+* with a stress rule (:func:`against_static`: the run's XPBD law), the dynamic
+  amplification ``stress_ratio``: the largest surface stress on the sheet of the dynamic
+  frame over the static equilibrium's (:mod:`fsi.analysis.membrane_fields`), and both
+  (``peak_stress_dynamic``, ``peak_stress_static``, Pa).
 
 Each row also carries both frames' tank fractions, so a pair further apart than
 ``pairing_tolerance`` is visible (``paired``: False).
@@ -60,10 +64,16 @@ def compare(dynamic_frames: dict, static_frames: dict, model: MembraneModel, fil
     return rows
 
 
-def _row(model, fill, x_dyn, level_dyn, x_sta, level_sta, pairing_tolerance) -> dict:
+def _row(model, fill, x_dyn, level_dyn, x_sta, level_sta, pairing_tolerance,
+         peak_stress=None) -> dict:
     tank = tank_volume(model.radius)
     tank_dyn, tank_sta = liquid_volume(model, x_dyn) / tank, liquid_volume(model, x_sta) / tank
-    return dict(
+    stress = {}
+    if peak_stress is not None:
+        dynamic, static = peak_stress(x_dyn), peak_stress(x_sta)
+        stress = dict(peak_stress_dynamic=dynamic, peak_stress_static=static,
+                      stress_ratio=dynamic / static)
+    return dict(**stress,
         fill=float(fill), tank_dynamic=float(tank_dyn), tank_static=float(tank_sta),
         eqn_6_1=eqn_6_1_error(x_sta, model.face_nodes, x_dyn, model.radius),
         level_difference=float(level_dyn - level_sta),
@@ -80,10 +90,17 @@ def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
     the frame's own shape (the equilibrium in the same fold state: what the dynamics alone
     add), or with ``along_path`` from the run's static start, continued frame to frame (the
     static model's own path, whose folds may settle otherwise). Rows as :func:`compare`'s,
-    ``fill`` the frame's tank fraction, with ``static_converged``."""
+    ``fill`` the frame's tank fraction, with ``static_converged`` and the stresses (module
+    doc, the XPBD law both ran with)."""
     from structure.model import MembraneState
 
+    from fsi.analysis.membrane_fields import FIELD_RULES
     from fsi.procedures.coupled_fill import membrane_settings, static_equilibrium, static_start
+
+    rule = FIELD_RULES["xpbd"](setup.model, setup.scene)
+
+    def peak(x):
+        return float(rule.sheet(x)["surface_stress"].max())
 
     model = XpbdModel.from_membrane(setup.model)
     settings = membrane_settings(setup)
@@ -95,7 +112,7 @@ def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
                                          state if along_path else MembraneState(x))
         tank = volume / tank_volume(setup.model.radius)
         rows.append(dict(_row(setup.model, tank, x, level, state.node_position,
-                              info.pressure_level, PAIRING_TOLERANCE),
+                              info.pressure_level, PAIRING_TOLERANCE, peak),
                          static_converged=bool(info.converged)))
     return rows
 
@@ -165,7 +182,7 @@ def flow_case(flow: float, ramp_time: float, time_scheme: str, lateral: float = 
     rows = against_static(setup, result.groups["frames"])
     path = against_static(setup, result.groups["frames"], along_path=True)
     r = regime(setup.scene)
-    measures = ("eqn_6_1", "level_difference", "centre_distance_mm")
+    measures = ("eqn_6_1", "level_difference", "centre_distance_mm", "stress_ratio")
     return dict(flow=flow, ramp_time=ramp_time, time_scheme=time_scheme, lateral=lateral,
                 end_time=end_time, pressure_ratio=r.pressure_ratio, time_ratio=r.time_ratio,
                 dynamic_pressure=r.dynamic_pressure, rows=rows,
