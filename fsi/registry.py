@@ -111,7 +111,9 @@ class Procedure:
     checks that need the built setup (grid spacings, stability limits), raising
     :class:`SceneError`; report : prints the result's summary; headline : prints what
     ``fsi show`` says of a written result beside its record counts (the modes' frequencies
-    and slosh masses of a modes or slosh run), nothing for the others.
+    and slosh masses of a modes or slosh run), nothing for the others; holds_volume : its
+    membrane frames hold the liquid volume of the first, the static start (a slosh run), so
+    that the static model at their volume is that frame.
     """
 
     name: str
@@ -123,6 +125,7 @@ class Procedure:
     check_setup: Callable[[Any], None] = _nothing
     report: Callable[[Any], None] = _nothing
     headline: Callable[[Any], None] = _nothing
+    holds_volume: bool = False
 
     def __call__(self, setup, progress):
         """Run the procedure: ``progress(fraction, message)`` is called as it goes. A run

@@ -107,16 +107,14 @@ def prepare(args):
 
 def annotate_result(setup, result) -> None:
     """:func:`fsi.analysis.diaphragm.annotate`; a failure of it is the run's
-    ``analysis_failure`` (the frames are still written, the exit status is 1)."""
+    ``stress_analysis_failure`` (the frames are still written, the exit status is 1)."""
     from fsi.analysis.diaphragm import annotate
 
     try:
         annotate(setup, result)
     except Exception as err:  # the run's work is kept whatever the analysis does
         log.exception("the diaphragm's stress analysis failed")
-        failure = f"the diaphragm's stress analysis: {err}"
-        before = result.attrs.get("analysis_failure")
-        result.attrs["analysis_failure"] = f"{before}; {failure}" if before else failure
+        result.attrs["stress_analysis_failure"] = f"{type(err).__name__}: {err}"
 
 
 def run(args) -> int:
@@ -167,10 +165,11 @@ def run(args) -> int:
     if result.attrs.get("failure"):
         print(f"fsi: error: the run stopped early: {result.attrs['failure']}", file=sys.stderr)
         return 1
-    if result.attrs.get("analysis_failure"):
-        print(f"fsi: error: the run's analysis failed: {result.attrs['analysis_failure']}",
-              file=sys.stderr)
-        return 1
+    for key, what in (("analysis_failure", "the run's analysis"),
+                      ("stress_analysis_failure", "the diaphragm's stress analysis")):
+        if result.attrs.get(key):
+            print(f"fsi: error: {what} failed: {result.attrs[key]}", file=sys.stderr)
+            return 1
     unconverged = not_converged(result)
     if unconverged:
         print(f"fsi: warning: the run finished, but not everything converged: {unconverged} "

@@ -46,6 +46,12 @@ def rest_angles(rest_point: np.ndarray, radius: float, flat: bool) -> tuple[np.n
     return polar, azimuth
 
 
+def free_triangles(node_fixed: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """(m,) bool: the triangles of the free sheet, those with a free node (``node_fixed``
+    (n,) bool); a triangle between two support rings lies inside the clamp."""
+    return ~np.asarray(node_fixed, dtype=bool)[np.asarray(triangles)].all(axis=1)
+
+
 def triangle_adjacency(triangles: np.ndarray) -> np.ndarray:
     """(p, 2) int64: the pairs of triangles that share a node (a crease along a diagonal
     runs through triangles that touch at their corners)."""

@@ -58,6 +58,20 @@ def clamped_disc_under_pressure(n: int, radius: float, pressure: float, law):
     return membrane, equilibrium_under_pressure(membrane, law, pressure, fixed, start), fixed
 
 
+TINY_RAMP = """
+[scene]
+name = "small-ramp"
+procedure = "thesis-ramp"
+[membrane]
+grid_size = 8
+[thesis]
+end_time = 0.05
+frame_interval = 50
+[sweep]
+fills = [0.0, 0.5, 1.0]
+"""
+"""The thesis ramp small enough for seconds: N = 8, 500 steps, three frames by volume."""
+
 TINY_SWEEP = ("[scene]\nname = 'tiny'\nprocedure = 'volume-sweep'\n[membrane]\n"
               "grid_size = 8\n[structure]\nmodel = 'xpbd'\n[sweep]\nscale = 'tank'\n"
               "fills = [0.1, 0.2]\ndrain = true\n")

@@ -6,24 +6,14 @@ import h5py
 import meshio
 import numpy as np
 import pytest
+from conftest import TINY_RAMP
 
 from fsi.cli import main
 from fsi.analysis.compare import eqn_6_1_error, node_areas
 from fsi.io.output import read_result
 from fsi.scene import parse_scene
 
-RAMP = """
-[scene]
-name = "small-ramp"
-procedure = "thesis-ramp"
-[membrane]
-grid_size = 8
-[thesis]
-end_time = 0.05
-frame_interval = 50
-[sweep]
-fills = [0.0, 0.5, 1.0]
-"""
+RAMP = TINY_RAMP
 
 
 @pytest.fixture(scope="module")

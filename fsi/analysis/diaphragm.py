@@ -4,7 +4,10 @@
 and topology datasets of :mod:`fsi.analysis.membrane_fields`, from the law the run used; and,
 over the main sequence (:data:`fsi.io.output.MAIN_GROUP`):
 
-- group ``envelope`` and the peak's attributes (:mod:`fsi.analysis.envelope`);
+- group ``envelope`` and the peak's attributes (:mod:`fsi.analysis.envelope`); for a run whose
+  frames hold the volume of their static start (``holds_volume``: a slosh run), the
+  attribute ``dynamic_amplification``, the run's peak stress over the start's (the static
+  model at the same volume);
 - group ``events``, the topology's changes (:mod:`fsi.analysis.events`);
 - for frames in time, group ``cycles``: the rainflow cycles of the most loaded triangles'
   stress, and with the scene's S-N curve the attribute ``miner_damage`` (per run of the
@@ -40,43 +43,56 @@ def cycles_of(group: dict, peak_stress: np.ndarray, how_many: int) -> dict:
 
 
 def annotate(setup, result) -> None:
-    """Add the diaphragm's fields, envelope, events and cycles to ``result`` (module doc)."""
+    """Add the diaphragm's fields, envelope, events and cycles to ``result`` (module doc):
+    all of them, or, when any step raises, none."""
     names = membrane_groups(result)
     if not names:
         return
     model = setup.model
     rule = FIELD_RULES[setup.structure_model](model, setup.scene)
     geometry = SheetGeometry.of(model, rule.term.triangles)
-    result.attrs["stress_law"] = rule.law
+    groups, attrs = {}, {"stress_law": rule.law}
     for name in names:
-        group = result.groups[name]
+        group = dict(result.groups[name])
         fields, folds = group_fields(rule, geometry, model, group["node_position"])
         group.update(fields)
-        if name != ENVELOPE_GROUP:
-            continue
-        stamp = stamp_name(group)
-        env = envelope(group, geometry.rest_polar, geometry.rest_azimuth)
-        result.groups["envelope"] = env
-        result.attrs.update(peak_attributes(env, stamp))
-        free_area = float(geometry.node_area[~model.node_fixed].sum())
-        events = topology_events(np.asarray(group[stamp], float), fields, folds,
-                                 geometry.triangle_area, geometry.rest_polar,
-                                 geometry.rest_azimuth, free_area)
-        result.groups["events"] = {stamp: events.pop("at"), **events}
-        if stamp != "time":
-            continue
-        fatigue = setup.scene["fatigue"]
-        cycles = cycles_of(group, env["peak_stress"], fatigue["peak_triangles"])
-        result.groups["cycles"] = cycles
-        if fatigue["sn_curve"]:
-            damage = [miner_damage(np.stack([cycles["stress_range"][cycles["triangle"] == t],
-                                             cycles["mean_stress"][cycles["triangle"] == t],
-                                             cycles["count"][cycles["triangle"] == t]], 1),
-                                   fatigue["sn_curve"])
-                      for t in np.unique(cycles["triangle"])]
-            worst = int(np.argmax(damage))
-            result.attrs["miner_damage"] = float(damage[worst])
-            result.attrs["miner_damage_triangle"] = int(np.unique(cycles["triangle"])[worst])
+        groups[name] = group
+        if name == ENVELOPE_GROUP:
+            groups.update(_over_the_run(setup, geometry, group, fields, folds, attrs))
+    result.groups.update(groups)
+    result.attrs.update(attrs)
+
+
+def _over_the_run(setup, geometry: SheetGeometry, group: dict, fields: dict, folds: list,
+                  attrs: dict) -> dict:
+    """The envelope, events and cycles groups of the main sequence ``group``; its attributes
+    into ``attrs``."""
+    stamp = stamp_name(group)
+    env = envelope(group, geometry.rest_polar, geometry.rest_azimuth)
+    attrs.update(peak_attributes(env, stamp, geometry.free_triangle))
+    if setup.procedure.holds_volume:
+        start = group["surface_stress"][0][geometry.free_triangle]
+        attrs["dynamic_amplification"] = float(attrs["peak_stress"] / np.max(start))
+    free_area = float(geometry.node_area[~setup.model.node_fixed].sum())
+    events = topology_events(np.asarray(group[stamp], float), fields, folds,
+                             geometry.triangle_area, geometry.rest_polar,
+                             geometry.rest_azimuth, free_area)
+    out = {"envelope": env, "events": {stamp: events.pop("at"), **events}}
+    if stamp != "time":
+        return out
+    fatigue = setup.scene["fatigue"]
+    cycles = cycles_of(group, env["peak_stress"], fatigue["peak_triangles"])
+    out["cycles"] = cycles
+    if fatigue["sn_curve"]:
+        triangles = np.unique(cycles["triangle"])
+        table = np.column_stack([cycles["stress_range"], cycles["mean_stress"],
+                                 cycles["count"]])
+        damage = [miner_damage(table[cycles["triangle"] == t], fatigue["sn_curve"])
+                  for t in triangles]
+        worst = int(np.argmax(damage))
+        attrs.update(miner_damage=float(damage[worst]),
+                     miner_damage_triangle=int(triangles[worst]))
+    return out
 
 
 def summary_lines(res: dict) -> list[str]:
@@ -85,6 +101,8 @@ def summary_lines(res: dict) -> list[str]:
     the events, the largest stress cycles and Miner's damage; none without membrane
     frames."""
     a = res["attrs"]
+    if a.get("stress_analysis_failure"):
+        return [f"  stress: not analysed ({a['stress_analysis_failure']})"]
     if "peak_stress" not in a:
         return []
     stamp = "time" if "peak_stress_time" in a else "fill_fraction"
@@ -95,8 +113,10 @@ def summary_lines(res: dict) -> list[str]:
         return (f"{value} at polar {a[f'{name}_polar_deg']:.1f} deg, azimuth "
                 f"{a[f'{name}_azimuth_deg']:.1f} deg, {label} {a[f'{name}_{stamp}']:.4g}{unit}")
 
+    amplification = (f"; x {a['dynamic_amplification']:.3g} of the static start's"
+                     if "dynamic_amplification" in a else "")
     lines = [f"  stress ({a.get('stress_law', '?')}): peak "
-             + peak("peak_stress", f"{a['peak_stress'] / 1e6:.4g} MPa"),
+             + peak("peak_stress", f"{a['peak_stress'] / 1e6:.4g} MPa") + amplification,
              "  strain: peak log strain " + peak("peak_strain", f"{a['peak_strain']:.4g}")]
     frames = res.get("frames", {})
     if "fold_count" in frames:
@@ -167,12 +187,15 @@ c cycles."""
 
 ATTRIBUTES = {
     "stress_law": "what the stresses are from (the run's law)",
-    "peak_stress": "the run's largest surface stress",
+    "peak_stress": "the run's largest surface stress over the free sheet (the triangles with "
+                   "a free node)",
     "peak_stress_time, peak_stress_fill_fraction": "when, or at which fill",
     "peak_stress_polar_deg, peak_stress_azimuth_deg": "where, on the rest shape",
     "peak_strain": "the run's largest principal log strain",
     "peak_strain_time, peak_strain_fill_fraction": "when, or at which fill",
     "peak_strain_polar_deg, peak_strain_azimuth_deg": "where, on the rest shape",
+    "dynamic_amplification": "a slosh run's peak stress over its static start's (the static "
+                             "model at the same volume)",
     "miner_damage, miner_damage_triangle": "Miner's damage per run of the scene, largest over "
                                            "the counted triangles, and which (with "
                                            "fatigue.sn_curve only)",

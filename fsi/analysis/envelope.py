@@ -10,8 +10,9 @@ by ``time`` (s) or, for a static sweep, by ``fill_fraction``:
 - ``polar_deg`` and ``azimuth_deg`` (m,): where each triangle is on the rest shape
   (:func:`structure.topology.rest_angles`).
 
-The run's peak of each, with its place and stamp, goes in the result's attributes
-(:func:`peak_attributes`).
+The run's peak of each over the free sheet (the triangles with a free node: on the thesis's
+grid the two support rings are the clamp, whose triangles' bending is the clamp's), with its
+place and stamp, goes in the result's attributes (:func:`peak_attributes`).
 """
 from __future__ import annotations
 
@@ -35,12 +36,14 @@ def envelope(group: dict, polar: np.ndarray, azimuth: np.ndarray) -> dict:
     return out
 
 
-def peak_attributes(env: dict, stamp: str) -> dict:
-    """The run's peak stress and strain, each with its rest ``_polar_deg``,
-    ``_azimuth_deg`` and its ``_<stamp>``, from an :func:`envelope`."""
+def peak_attributes(env: dict, stamp: str, sheet: np.ndarray) -> dict:
+    """The run's peak stress and strain over the triangles ``sheet`` (m,) bool (those of
+    the free sheet: a triangle between two support rings is inside the clamp), each with
+    its rest ``_polar_deg``, ``_azimuth_deg`` and its ``_<stamp>``, from an
+    :func:`envelope`."""
     out = {}
     for name in ("peak_stress", "peak_strain"):
-        t = int(np.argmax(env[name]))
+        t = int(np.argmax(np.where(sheet, env[name], -np.inf)))
         out.update({name: float(env[name][t]), f"{name}_{stamp}": float(env[f"{name}_{stamp}"][t]),
                     f"{name}_polar_deg": float(env["polar_deg"][t]),
                     f"{name}_azimuth_deg": float(env["azimuth_deg"][t])})

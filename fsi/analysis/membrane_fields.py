@@ -36,8 +36,9 @@ from structure.model import MembraneModel
 from structure.shell import ShellModel, ShellSettings
 from structure.stress import sheet_fields
 from structure.tangent.membrane import MembraneTerm, regimes
-from structure.topology import (creased, fold_clusters, inverted_area_fraction, rest_angles,
-                                self_contact_nodes, triangle_adjacency, wall_contact_area)
+from structure.topology import (creased, fold_clusters, free_triangles, inverted_area_fraction,
+                                rest_angles, self_contact_nodes, triangle_adjacency,
+                                wall_contact_area)
 from structure.xpbd.kernels import WRINKLED
 from structure.xpbd.model import XpbdModel
 
@@ -146,7 +147,7 @@ class SheetGeometry:
         area, _ = node_area_and_normal(rest, model.grid_size, 1.0)
         e = rest[triangles[:, [1, 2, 0]]] - rest[triangles]
         tri_area = 0.5 * np.linalg.norm(np.cross(e[:, 0], -e[:, 2]), axis=1)
-        return cls(triangle_adjacency(triangles), ~model.node_fixed[triangles].all(axis=1), area,
+        return cls(triangle_adjacency(triangles), free_triangles(model.node_fixed, triangles), area,
                    polar, azimuth, tri_area, flat, float(rest[model.node_fixed, 2].mean()),
                    float(np.linalg.norm(e, axis=2).min()))
 

@@ -9,7 +9,8 @@ sweep's frame nearest to it are compared by
 * the liquid's centre of mass, the distance between the two (mm), from the membrane's
   enclosed volume and first moment (:func:`structure.volume.liquid_first_moment`);
 * with a stress rule (:func:`against_static`: the run's XPBD law), the dynamic
-  amplification ``stress_ratio``: the largest surface stress on the sheet of the dynamic
+  amplification ``stress_ratio``: the largest surface stress on the free sheet
+  (:func:`structure.topology.free_triangles`) of the dynamic
   frame over the static equilibrium's (:mod:`fsi.analysis.membrane_fields`), and both
   (``peak_stress_dynamic``, ``peak_stress_static``, Pa).
 
@@ -95,12 +96,14 @@ def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
     from structure.model import MembraneState
 
     from fsi.analysis.membrane_fields import FIELD_RULES
+    from structure.topology import free_triangles
     from fsi.procedures.coupled_fill import membrane_settings, static_equilibrium, static_start
 
     rule = FIELD_RULES["xpbd"](setup.model, setup.scene)
+    sheet = free_triangles(setup.model.node_fixed, rule.term.triangles)
 
     def peak(x):
-        return float(rule.sheet(x)["surface_stress"].max())
+        return float(rule.sheet(x)["surface_stress"][sheet].max())
 
     model = XpbdModel.from_membrane(setup.model)
     settings = membrane_settings(setup)

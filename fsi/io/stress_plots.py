@@ -5,7 +5,7 @@
   polar angle, angle: the azimuth), the run's peak starred; right, the surface stress of the
   frame of the peak on the deformed sheet;
 * ``diaphragm_history.png``: against time (or fill), the largest stress and strain on the
-  sheet, the fold count, the wall contact area and the inverted area fraction, with the
+  free sheet (:func:`structure.topology.free_triangles`), the fold count, the wall contact area and the inverted area fraction, with the
   events as ticks.
 """
 from __future__ import annotations
@@ -22,7 +22,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 from fsi.io.output import MAIN_GROUP as ENVELOPE_GROUP, frame_stamp as stamp_name  # noqa: E402
 from fsi.io.plot_registry import save  # noqa: E402
 from structure.grid import triangles_from_quads  # noqa: E402
-from structure.topology import rest_angles  # noqa: E402
+from structure.topology import free_triangles, rest_angles  # noqa: E402
 
 
 def stress_plots(res: dict, out: Path) -> list[Path]:
@@ -84,10 +84,12 @@ def _history_plot(res: dict, path: Path) -> Path:
     stamp = stamp_name(frames)
     x = np.asarray(frames[stamp], dtype=float)
     fig, axes = plt.subplots(4, 1, figsize=(7, 8), sharex=True)
-    axes[0].plot(x, np.max(frames["surface_stress"], axis=1) / 1e6, "k-o", ms=3)
+    sheet = free_triangles(res["membrane"]["fixed"],
+                           triangles_from_quads(res["membrane"]["face_nodes"]))
+    axes[0].plot(x, np.max(frames["surface_stress"][:, sheet], axis=1) / 1e6, "k-o", ms=3)
     axes[0].set_ylabel("largest stress\n(MPa)")
     strain = axes[0].twinx()
-    strain.plot(x, np.max(frames["log_strain"][:, :, 0], axis=1), "C1--", lw=1)
+    strain.plot(x, np.max(frames["log_strain"][:, sheet, 0], axis=1), "C1--", lw=1)
     strain.set_ylabel("largest log strain", color="C1")
     axes[1].step(x, frames["fold_count"], "k-", where="post")
     axes[1].set_ylabel("folds")

@@ -302,4 +302,5 @@ PROCEDURE = register_procedure(Procedure(
     check_setup=check_depth,
     report=report,
     headline=report,
+    holds_volume=True,
 ))
