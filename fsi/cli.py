@@ -341,7 +341,8 @@ def _result_parsers(sub) -> None:
     p = sub.add_parser("sweeps", help="list bundled sweeps, or print one to copy")
     p.add_argument("name", nargs="?", help="print this bundled sweep's TOML")
     p.set_defaults(func=cmd_sweeps)
-    p = sub.add_parser("show", help="summarise a result: scene, procedure, records, "
+    p = sub.add_parser("show", help="summarise a result: scene, procedure, records, the "
+                                    "diaphragm's peak stress, events and cycles, "
                                     "convergence, failure, version")
     p.add_argument("run", help="result folder or result.h5")
     p.set_defaults(func=cmd_show)

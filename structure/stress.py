@@ -30,7 +30,9 @@ nu tr(H) I] (N m/m), the bending stress at the two surfaces +-6 M / t^2.
 Any law of the package, the XPBD membrane's blocks and their tension field included, also
 gives its resultants from its own energy (:func:`term_resultants`, on a
 :class:`structure.tangent.membrane.MembraneTerm`); for the two laws above that path agrees
-with the closed forms to round-off.
+with the closed forms to round-off. :func:`sheet_fields` gathers what a run writes per
+triangle: the resultants rotated back to the rest frame (:func:`rotated_resultant`), where the
+bending moments' tensor is added to give the stresses of the two surfaces.
 """
 from __future__ import annotations
 

@@ -30,11 +30,12 @@ def membrane_groups(result) -> list[str]:
             if "node_position" in g and len(g["node_position"]) > 0]
 
 
-def cycles_of(group: dict, peak_stress: np.ndarray, how_many: int) -> dict:
-    """The ``cycles`` group: rainflow cycles of the ``how_many`` triangles of largest
-    ``peak_stress`` (m,) Pa over ``group``'s ``surface_stress`` history."""
+def cycles_of(group: dict, peak_stress: np.ndarray, sheet: np.ndarray, how_many: int) -> dict:
+    """The ``cycles`` group: rainflow cycles of the ``how_many`` triangles of the free sheet
+    ``sheet`` (m,) bool of largest ``peak_stress`` (m,) Pa over ``group``'s
+    ``surface_stress`` history."""
     rows = []
-    for t in np.argsort(peak_stress)[::-1][:how_many]:
+    for t in np.argsort(np.where(sheet, peak_stress, -np.inf))[::-1][:how_many]:
         for r, mean, count in stress_cycles(group["surface_stress"][:, t]):
             rows.append((t, r, mean, count))
     a = np.asarray(rows, dtype=float).reshape(-1, 4)
@@ -81,7 +82,8 @@ def _over_the_run(setup, geometry: SheetGeometry, group: dict, fields: dict, fol
     if stamp != "time":
         return out
     fatigue = setup.scene["fatigue"]
-    cycles = cycles_of(group, env["peak_stress"], fatigue["peak_triangles"])
+    cycles = cycles_of(group, env["peak_stress"], geometry.free_triangle,
+                       fatigue["peak_triangles"])
     out["cycles"] = cycles
     if fatigue["sn_curve"]:
         triangles = np.unique(cycles["triangle"])

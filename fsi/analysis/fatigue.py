@@ -2,7 +2,8 @@
 
 The stress history of a triangle is its ``surface_stress`` over the frames of a run in time
 (Pa). :func:`stress_cycles` rainflow-counts it (ASTM E1049-85, through the ``rainflow``
-package) for the ``fatigue.peak_triangles`` triangles of largest envelope stress: each row a
+package) for the ``fatigue.peak_triangles`` triangles of the free sheet of largest envelope
+stress: each row a
 range (Pa), its mean (Pa) and its count (0.5 for a half cycle). The frames sample the history
 at the scene's frame interval, so ranges between frames are not seen: a frame interval of a
 tenth of the forcing's period or less is the scene's to choose.
