@@ -3,10 +3,9 @@
 The stress history of a triangle is its ``surface_stress`` over the frames of a run in time
 (Pa). :func:`stress_cycles` rainflow-counts it (ASTM E1049-85, through the ``rainflow``
 package) for the ``fatigue.peak_triangles`` triangles of the free sheet of largest envelope
-stress: each row a
-range (Pa), its mean (Pa) and its count (0.5 for a half cycle). The frames sample the history
-at the scene's frame interval, so ranges between frames are not seen: a frame interval of a
-tenth of the forcing's period or less is the scene's to choose.
+stress: each row a range (Pa), its mean (Pa) and its count (0.5 for a half cycle). The
+frames sample the history at the scene's frame interval, so ranges between frames are not
+seen: a frame interval of a tenth of the forcing's period or less is the scene's to choose.
 
 With an S-N curve in the scene (``fatigue.sn_curve``: points [stress range Pa, cycles to
 failure], range falling as cycles grow), :func:`miner_damage` sums Palmgren-Miner's
