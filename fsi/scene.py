@@ -111,9 +111,18 @@ COMMON: dict[str, Table] = {
                               "triangles of largest peak stress whose stress history is "
                               "rainflow-counted"),
     }),
+    "limits": Table({
+        "stress": Key(float, 0.0, lambda v: v >= 0, ">= 0 Pa (0: none)",
+                      "allowable surface stress of the diaphragm's material: the result's "
+                      "stress_margin is it over the run's peak; none is assumed"),
+        "strain": Key(float, 0.0, lambda v: v >= 0, ">= 0 (0: none)",
+                      "allowable principal logarithmic strain: the result's strain_margin is "
+                      "it over the run's peak; none is assumed"),
+    }),
 }
 """Tables every scene shares: the scene, the tank, the membrane and its structure model, the
-liquid at rest, the thesis membrane's constraints, the fatigue data."""
+liquid at rest, the thesis membrane's constraints, the fatigue data and the material's
+limits."""
 
 
 def _schema() -> dict[str, Table]:

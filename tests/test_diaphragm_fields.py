@@ -14,6 +14,8 @@ RAMP = TINY_RAMP.replace('name = "small-ramp"', 'name = "ramp-with-curve"') + ""
 [fatigue]
 sn_curve = [[4.0e6, 1.0e3], [1.0e6, 1.0e5]]
 peak_triangles = 3
+[limits]
+strain = 0.01
 """
 
 
@@ -89,9 +91,14 @@ def test_a_run_writes_the_diaphragms_fields_envelope_events_and_cycles(ramp_run,
     for stamp, kind in zip(res["events"]["time"], res["events"]["event"]):
         assert stamp in frames["time"][1:] and kind.decode().split()[0] in (
             "fold", "wall", "self-contact", "inversion")
+    # a strain limit set in the scene, none for the stress: its margin, and only its
+    assert a["strain_margin"] == pytest.approx(0.01 / a["peak_strain"])
+    assert "stress_margin" not in a
     assert main(["show", str(ramp_run)]) == 0
     shown = capsys.readouterr().out
     assert f"peak {a['peak_stress'] / 1e6:.4g} MPa" in shown and "Miner damage" in shown
+    assert "no limits.stress in the scene" in shown
+    assert f"limit / peak = {a['strain_margin']:.3g} " in shown
     assert (ramp_run / "plots" / "stress_envelope.png").is_file()
     assert (ramp_run / "plots" / "diaphragm_history.png").is_file()
 

@@ -4,7 +4,9 @@
 and topology datasets of :mod:`fsi.analysis.membrane_fields`, from the law the run used; and,
 over the main sequence (:data:`fsi.io.output.MAIN_GROUP`):
 
-- group ``envelope`` and the peak's attributes (:mod:`fsi.analysis.envelope`); for a run whose
+- group ``envelope`` and the peak's attributes (:mod:`fsi.analysis.envelope`); with the
+  scene's ``limits.stress`` or ``limits.strain``, ``stress_margin`` or ``strain_margin``, the
+  limit over the run's peak (below 1: exceeded); for a run whose
   frames hold the volume of their static start (``holds_volume``: a slosh run), the
   attribute ``dynamic_amplification``, the run's peak stress over the start's (the static
   model at the same volume);
@@ -71,6 +73,10 @@ def _over_the_run(setup, geometry: SheetGeometry, group: dict, fields: dict, fol
     stamp = stamp_name(group)
     env = envelope(group, geometry.rest_polar, geometry.rest_azimuth)
     attrs.update(peak_attributes(env, stamp, geometry.free_triangle))
+    for name, peak in (("stress", "peak_stress"), ("strain", "peak_strain")):
+        limit = setup.scene["limits"][name]
+        if limit > 0:
+            attrs[f"{name}_margin"] = float(limit / attrs[peak])
     if setup.procedure.holds_volume:
         start = group["surface_stress"][0][geometry.free_triangle]
         attrs["dynamic_amplification"] = float(attrs["peak_stress"] / np.max(start))
@@ -117,9 +123,18 @@ def summary_lines(res: dict) -> list[str]:
 
     amplification = (f"; x {a['dynamic_amplification']:.3g} of the static start's"
                      if "dynamic_amplification" in a else "")
+    def margin(name):
+        key = f"{name}_margin"
+        if key not in a:
+            return f"; no limits.{name} in the scene"
+        verdict = "EXCEEDED" if a[key] < 1 else "within it"
+        return f"; limit / peak = {a[key]:.3g} ({verdict})"
+
     lines = [f"  stress ({a.get('stress_law', '?')}): peak "
-             + peak("peak_stress", f"{a['peak_stress'] / 1e6:.4g} MPa") + amplification,
-             "  strain: peak log strain " + peak("peak_strain", f"{a['peak_strain']:.4g}")]
+             + peak("peak_stress", f"{a['peak_stress'] / 1e6:.4g} MPa") + amplification
+             + margin("stress"),
+             "  strain: peak log strain " + peak("peak_strain", f"{a['peak_strain']:.4g}")
+             + margin("strain")]
     frames = res.get("frames", {})
     if "fold_count" in frames:
         folds = np.asarray(frames["fold_count"])
@@ -196,6 +211,8 @@ ATTRIBUTES = {
     "peak_strain": "the run's largest principal log strain",
     "peak_strain_time, peak_strain_fill_fraction": "when, or at which fill",
     "peak_strain_polar_deg, peak_strain_azimuth_deg": "where, on the rest shape",
+    "stress_margin, strain_margin": "limits.stress (limits.strain) over the run's peak: "
+                                    "below 1, the limit is exceeded (with the limit only)",
     "dynamic_amplification": "a slosh run's peak stress over its static start's (the static "
                              "model at the same volume)",
     "miner_damage, miner_damage_triangle": "Miner's damage per run of the scene, largest over "

@@ -76,7 +76,7 @@ ATTR_UNITS = {
     "full_volume": "m^3", "empty_volume": "m^3", "start_volume": "m^3", "port_stub_volume": "m^3",
     "start_pressure_level": "Pa", "substep": "s", "centre_of_mass_amplitude": "m",
     "first_mode_bound_hz": "Hz", "miner_damage": "1", "miner_damage_triangle": "1",
-    "dynamic_amplification": "1",
+    "dynamic_amplification": "1", "stress_margin": "1", "strain_margin": "1",
 }
 """Units of the run facts (result attributes) a sweep's dataset gathers."""
 
