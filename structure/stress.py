@@ -31,8 +31,8 @@ Any law of the package, the XPBD membrane's blocks and their tension field inclu
 gives its resultants from its own energy (:func:`term_resultants`, on a
 :class:`structure.tangent.membrane.MembraneTerm`); for the two laws above that path agrees
 with the closed forms to round-off. :func:`sheet_fields` gathers what a run writes per
-triangle: the resultants rotated back to the rest frame (:func:`rotated_resultant`), where the
-bending moments' tensor is added to give the stresses of the two surfaces.
+triangle: the resultants rotated back to the rest frame, R^T n R = U G U / a (F = R U), where
+the bending moments' tensor is added to give the stresses of the two surfaces.
 """
 from __future__ import annotations
 
@@ -148,42 +148,41 @@ def _svk(law: SaintVenantKirchhoff, strain: TriangleStrain, thickness: float):
     return resultant, thickness * lam3
 
 
+def _law_stress(term, pos: np.ndarray):
+    """(F (m, 3, 2), G (m, 2, 2) J, a (m,) m^2) of ``term``'s triangles at ``pos`` (n, 3) m:
+    the deformation gradient, G = [[2 g0, g2], [g2, 2 g1]] the law's second Piola-Kirchhoff
+    stress times the rest volume (g = d psi / dc,
+    :meth:`~structure.tangent.membrane.MembraneTerm.c_gradients`) and the current area."""
+    edges = _edges(pos, term.triangles)
+    g = term.c_gradients(pos)
+    G = np.stack([np.stack([2 * g[:, 0], g[:, 2]], -1), np.stack([g[:, 2], 2 * g[:, 1]], -1)],
+                 axis=1)
+    area = 0.5 * np.linalg.norm(np.cross(edges[:, :, 0], edges[:, :, 1]), axis=1)
+    return edges @ term.rest_inverse, G, area
+
+
 def term_resultants(term, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The principal Cauchy membrane resultants (m, 2) N/m and their directions (m, 2, 3) of
     every triangle of ``term`` (:class:`structure.tangent.membrane.MembraneTerm`: any law of
     the package, the XPBD membrane's blocks and their tension field included) at ``pos``
-    (n, 3) m, from the law's own energy: with G = [[2 g0, g2], [g2, 2 g1]] (J) its second
-    Piola-Kirchhoff stress times the rest volume (g = d psi / dc,
-    :meth:`~structure.tangent.membrane.MembraneTerm.c_gradients`), n = F G F^T / a, a the
-    current area; F = Q R in the current plane, so n's principal values are R G R^T / a's
-    and its directions Q's images of their eigenvectors."""
-    edges = _edges(pos, term.triangles)
-    F = edges @ term.rest_inverse
-    g = term.c_gradients(pos)
-    G = np.stack([np.stack([2 * g[:, 0], g[:, 2]], -1), np.stack([g[:, 2], 2 * g[:, 1]], -1)],
-                 axis=1)
+    (n, 3) m, from the law's own energy (G and a of :func:`_law_stress`): n = F G F^T / a;
+    F = Q R in the current plane, so n's principal values are R G R^T / a's and its
+    directions Q's images of their eigenvectors."""
+    F, G, area = _law_stress(term, pos)
     Q, R = np.linalg.qr(F)
-    area = 0.5 * np.linalg.norm(np.cross(edges[:, :, 0], edges[:, :, 1]), axis=1)
-    plane = R @ G @ np.swapaxes(R, 1, 2) / area[:, None, None]
-    values, vectors = np.linalg.eigh(plane)
-    values, vectors = values[:, ::-1], vectors[:, :, ::-1]
+    values, vectors = _principal(R @ G @ np.swapaxes(R, 1, 2) / area[:, None, None])
     return values, np.einsum("mki,mij->mjk", Q, vectors)
 
 
-def rotated_resultant(term, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Every triangle's Cauchy membrane resultant rotated back to its rest frame,
-    R^T n R = U G U / a (m, 2, 2) N/m (F = R U, G and a as in :func:`term_resultants`), and
-    its deformation gradient F (m, 3, 2) at ``pos`` (n, 3) m; the principal values are
-    n's, each direction at rest w maps to F U^-1 w now."""
-    edges = _edges(pos, term.triangles)
-    F = edges @ term.rest_inverse
-    values, vectors = np.linalg.eigh(np.einsum("mki,mkj->mij", F, F))
-    U = np.einsum("mik,mk,mjk->mij", vectors, np.sqrt(np.maximum(values, 0.0)), vectors)
-    g = term.c_gradients(pos)
-    G = np.stack([np.stack([2 * g[:, 0], g[:, 2]], -1), np.stack([g[:, 2], 2 * g[:, 1]], -1)],
-                 axis=1)
-    area = 0.5 * np.linalg.norm(np.cross(edges[:, :, 0], edges[:, :, 1]), axis=1)
-    return U @ G @ U / area[:, None, None], F
+def _right_stretch(F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The eigenvalues (m, 2), ascending, and eigenvectors (m, 2, 2) of C = F^T F."""
+    return np.linalg.eigh(np.einsum("mki,mkj->mij", F, F))
+
+
+def _stretch_power(values: np.ndarray, vectors: np.ndarray, power: float) -> np.ndarray:
+    """U^(2 power) (m, 2, 2) from C's eigen pairs: power 1/2 is U, -1/2 its inverse."""
+    return np.einsum("mik,mk,mjk->mij", vectors,
+                     np.maximum(values, 1e-300 if power < 0 else 0.0) ** power, vectors)
 
 
 def _principal(tensor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -202,7 +201,9 @@ def _von_mises(s: np.ndarray) -> np.ndarray:
 def sheet_fields(term, pos: np.ndarray, thickness: float, incompressible: bool,
                  bending: MidedgeBending | None = None, rest: np.ndarray | None = None,
                  flexural_rigidity: float = 0.0, poisson_ratio: float = 0.0) -> dict:
-    """Per triangle at ``pos`` (n, 3) m, from ``term``'s law (:func:`rotated_resultant`) and,
+    """Per triangle at ``pos`` (n, 3) m, from ``term``'s law (its resultant rotated back to
+    the rest frame, R^T n R = U G U / a with F = R U and G, a of :func:`_law_stress`; a
+    direction w at rest is F U^-1 w now) and,
     with ``bending`` on ``rest`` (n, 3) m, the Kirchhoff-Love moments of
     :func:`bending_curvature` (flexural rigidity N m, Poisson ratio of the model):
 
@@ -220,13 +221,13 @@ def sheet_fields(term, pos: np.ndarray, thickness: float, incompressible: bool,
     - ``green_strain`` and ``log_strain`` (m, 2) 1, principal, largest first;
     - ``curvature`` (m, 2, 2) 1/m, the change of curvature in the rest frame (zero without
       ``bending``)."""
-    n_rot, F = rotated_resultant(term, pos)
+    F, G, area = _law_stress(term, pos)
+    c_values, c_vectors = _right_stretch(F)
+    U = _stretch_power(c_values, c_vectors, 0.5)
+    n_rot = U @ G @ U / area[:, None, None]
     values, w = _principal(n_rot)
-    C = np.einsum("mki,mkj->mij", F, F)
-    c_values, c_vectors = np.linalg.eigh(C)
     stretch = np.sqrt(np.maximum(c_values[:, ::-1], 0.0))
-    U_inv = np.einsum("mik,mk,mjk->mij", c_vectors, 1.0 / np.sqrt(np.maximum(c_values, 1e-300)),
-                      c_vectors)
+    U_inv = _stretch_power(c_values, c_vectors, -0.5)
     direction = np.einsum("mki,mij,mj->mk", F, U_inv, w[:, :, 0])
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
     green = 0.5 * (stretch**2 - 1.0)
@@ -241,10 +242,7 @@ def sheet_fields(term, pos: np.ndarray, thickness: float, incompressible: bool,
     curvature = np.zeros((m, 2, 2))
     if bending is not None:
         curvature, _ = bending_curvature(bending, rest, pos, poisson_ratio)
-    trace = np.trace(curvature, axis1=1, axis2=2)
-    moment = flexural_rigidity * ((1 - poisson_ratio) * curvature
-                                  + poisson_ratio * trace[:, None, None] * np.eye(2))
-    bend = 6.0 * moment / thickness**2
+    bend = 6.0 * _moment_tensor(curvature, flexural_rigidity, poisson_ratio) / thickness**2
     surfaces = np.stack([membrane + bend, membrane - bend])          # (2, m, 2, 2)
     top = np.stack([np.linalg.eigvalsh(s)[:, -1] for s in surfaces])
     return dict(principal_resultant=values, principal_direction=direction, thickness=t_now,
@@ -308,8 +306,14 @@ def bending_moments(curvature: np.ndarray, frame: np.ndarray, flexural_rigidity:
     1/m in the triangles' rest ``frame`` (m, 3, 2) (:func:`bending_curvature`),
     M = D [(1 - nu) H + nu tr(H) I]; the bending stress at the two surfaces is
     +-6 M / t^2."""
+    values, vectors = _principal(_moment_tensor(curvature, flexural_rigidity, poisson_ratio))
+    return values, np.einsum("mki,mij->mjk", frame, vectors)
+
+
+def _moment_tensor(curvature: np.ndarray, flexural_rigidity: float,
+                   poisson_ratio: float) -> np.ndarray:
+    """Kirchhoff-Love's M = D [(1 - nu) H + nu tr(H) I] (m, 2, 2) N m/m of curvature tensors
+    H (m, 2, 2) 1/m."""
     trace = np.trace(curvature, axis1=1, axis2=2)
-    moment = flexural_rigidity * ((1 - poisson_ratio) * curvature
-                                  + poisson_ratio * trace[:, None, None] * np.eye(2))
-    values, vectors = np.linalg.eigh(moment)
-    return values[:, ::-1], np.einsum("mki,mij->mjk", frame, vectors[:, :, ::-1])
+    return flexural_rigidity * ((1 - poisson_ratio) * curvature
+                                + poisson_ratio * trace[:, None, None] * np.eye(2))
