@@ -69,7 +69,7 @@ def main(argv=None) -> dict:
     static = static.with_keys(smoke["thesis-static"])
     sweep_s, sweep = _timed(build(static))
     frames = sweep.groups["frames"]
-    target = np.asarray(frames["target_fill_fraction"])
+    target = np.asarray(frames["target_fill"])
     volume_error = np.abs(frames["liquid_volume"] - (
         sweep.attrs["empty_volume"] + target * (sweep.attrs["full_volume"]
                                                 - sweep.attrs["empty_volume"])))
@@ -91,7 +91,7 @@ def main(argv=None) -> dict:
         "sweep_max_single_spring_strain": float(np.max(frames["strain_max"])),
         "thesis_mode_seconds": round(ramp_s, 3),
         "thesis_mode_speedup": round(THESIS_RUNTIME_SECONDS / ramp_s, 1),
-        "thesis_mode_final_fill": float(ramp.groups["history"]["fill_fraction"][-1]),
+        "thesis_mode_final_fill": float(ramp.groups["history"]["inversion_fraction"][-1]),
         "anchor_seconds": THESIS_RUNTIME_SECONDS,
         "goals_seconds": GOALS,
         "sweep_profile": sweep_profile,

@@ -42,17 +42,21 @@ def stack(records: list[dict]) -> dict:
     return {k: np.asarray([r[k] for r in records]) for k in records[0]}
 
 
-def membrane_frame(setup, scale: FillScale, node_position: np.ndarray,
-                   pressure_level: float) -> dict:
-    """The fields every membrane frame carries: node_position (n, 3) m, fill_fraction (on
-    ``scale``), liquid_volume (m^3), tank_fraction V / (4/3 pi R^3), pressure_level (Pa,
-    uniform level at the tank centre) and equivalent_height (m, p_ref / (rho |b|))."""
+def membrane_frame(setup, node_position: np.ndarray, pressure_level: float,
+                   inversion: Optional[FillScale] = None) -> dict:
+    """The fields every membrane frame carries: node_position (n, 3) m, tank_fraction
+    V / (4/3 pi R^3), liquid_volume (m^3), pressure_level (Pa, uniform level at the tank
+    centre) and equivalent_height (m, p_ref / (rho |b|)); where the thesis's App. J procedure
+    is reproduced, on its full-``inversion`` scale, inversion_fraction too
+    (:mod:`fsi.setup.fill`)."""
     volume = liquid_volume(setup.model, node_position)
     tank = tank_volume(setup.model.radius)
-    return dict(node_position=node_position.copy(), fill_fraction=float(scale.fill(volume)),
-                liquid_volume=volume, tank_fraction=volume / tank,
-                pressure_level=float(pressure_level),
-                equivalent_height=setup.liquid.equivalent_height(pressure_level))
+    out = dict(node_position=node_position.copy(), tank_fraction=volume / tank,
+               liquid_volume=volume, pressure_level=float(pressure_level),
+               equivalent_height=setup.liquid.equivalent_height(pressure_level))
+    if inversion is not None:
+        out["inversion_fraction"] = float(inversion.fill(volume))
+    return out
 
 
 class StopRequest:

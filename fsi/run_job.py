@@ -183,13 +183,17 @@ EXIT_NOT_CONVERGED = 3
 window did not converge (0: all converged; 1: stopped early; 2: bad input)."""
 
 
+FRAME_CHECKS = {"converged": "", "stress_valid": " (stress fields not finite)"}
+"""Per-frame true-or-false datasets a group may hold -> what a false one is called."""
+
+
 def not_converged(result) -> str:
-    """'' when every ``converged`` entry of every group and every true-or-false
+    """'' when every ``converged`` (and ``stress_valid``) entry of every group and every true-or-false
     ``*_converged`` attribute of ``result`` holds (a count such as ``windows_not_converged``
     is not one); else what did not, e.g. '1 of 999 windows, start'."""
-    parts = [f"{int(np.sum(~np.asarray(g['converged'], dtype=bool)))} of {len(g['converged'])} "
-             f"{name}" for name, g in result.groups.items()
-             if "converged" in g and not np.all(g["converged"])]
+    parts = [f"{int(np.sum(~np.asarray(g[key], dtype=bool)))} of {len(g[key])} {name}{what}"
+             for name, g in result.groups.items() for key, what in FRAME_CHECKS.items()
+             if key in g and not np.all(g[key])]
     parts += [key[:-len("_converged")] for key, value in result.attrs.items()
               if key.endswith("_converged") and isinstance(value, (bool, np.bool_))
               and not value]

@@ -18,10 +18,21 @@ principal axes, so n_i = t lambda_i^2 S_i / (lambda_1 lambda_2). The laws
 (:data:`STRESS_LAWS`, keyed by the law's class):
 
 - :class:`structure.hyperelastic.HyperelasticLaw` (incompressible, W(I1)): lambda_3 =
-  1 / (lambda_1 lambda_2) and sigma_i = 2 W'(I1) (lambda_i^2 - lambda_3^2);
+  1 / (lambda_1 lambda_2) and sigma_i = 2 W'(I1) (lambda_i^2 - lambda_3^2)
+  (:func:`incompressible_stress`; with the tension field, a wrinkled triangle takes its
+  natural width lambda_2 = lambda_1^(-1/2), where sigma_2 = 0, and a slack one no stress);
 - :class:`structure.hyperelastic.SaintVenantKirchhoff` (plane stress, linear in E):
-  S = Y / (1 - nu^2) [nu tr E I + (1 - nu) E], and lambda_3^2 = 1 - 2 nu tr E / (1 - nu),
-  the plane-stress thickness strain of the same law.
+  S = Y / (1 - nu^2) [nu tr E I + (1 - nu) E].
+
+The current thickness of a compressible law is the plane-stress Hencky thickness
+lambda_3 = (lambda_1 lambda_2)^(-nu / (1 - nu)) (:func:`thickness_stretch`): positive at every
+stretch, equal to Saint Venant-Kirchhoff's own lambda_3^2 = 1 - 2 nu tr E / (1 - nu) to first
+order in the strain and to the incompressible 1 / (lambda_1 lambda_2) at nu = 1/2. Saint
+Venant-Kirchhoff's own thickness vanishes at tr E = (1 - nu) / (2 nu), 0.5 at nu = 1/2 (a
+stretch of 1.41 with the other near 1), where it would divide the resultant by zero. A
+sheet of rubber (nu at or above :data:`INCOMPRESSIBLE_POISSON_RATIO`) reports the stresses of
+the incompressible neo-Hookean law of its E whatever law it ran with (the run's result names
+the law in ``stress_law``).
 
 Bending (:func:`bending_curvature`, :func:`bending_moments`): the midedge shape operator of
 :mod:`structure.bending` per triangle and the Kirchhoff-Love moments M = D [(1 - nu) H +
@@ -126,13 +137,46 @@ def triangle_strain(membrane: TriangleMembrane, pos: np.ndarray) -> TriangleStra
     return TriangleStrain(stretch, rest, now)
 
 
-def _incompressible(law: HyperelasticLaw, strain: TriangleStrain, thickness: float):
-    lam = strain.stretch
+INCOMPRESSIBLE_POISSON_RATIO = 0.49
+"""A law whose Poisson ratio is at or above this (rubbers: 0.49 to 0.5) reports the stresses of
+the incompressible neo-Hookean law of its Young's modulus (module doc)."""
+
+
+def thickness_stretch(stretch: np.ndarray, poisson_ratio: float) -> np.ndarray:
+    """(m,) 1: the plane-stress Hencky thickness stretch lambda_3 = (lambda_1 lambda_2)^(-nu /
+    (1 - nu)) of principal stretches ``stretch`` (m, 2) 1 (module doc); 1 / (lambda_1 lambda_2)
+    at nu = 1/2."""
+    area = stretch[:, 0] * stretch[:, 1]
+    if poisson_ratio >= 0.5:
+        return 1.0 / area
+    return area ** (-poisson_ratio / (1.0 - poisson_ratio))
+
+
+def incompressible_stress(law: HyperelasticLaw, stretch: np.ndarray,
+                          tension_field: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Principal Cauchy stresses (m, 2) Pa and thickness stretches lambda_3 (m,) 1 of an
+    incompressible sheet of ``law`` (Yeoh, neo-Hookean) at principal stretches ``stretch``
+    (m, 2) 1, largest first: sigma_i = 2 W'(I1) (lambda_i^2 - lambda_3^2), lambda_3 = 1 /
+    (lambda_1 lambda_2). With ``tension_field`` the sheet carries no compression (Pipkin 1986):
+    a triangle with lambda_2 < lambda_1^(-1/2) is wrinkled and takes that natural width (uniaxial
+    tension, sigma_2 = 0), one with lambda_1 <= 1 is slack (no stress, lambda_3 = 1)."""
+    lam = np.array(stretch, dtype=float)
+    slack = np.zeros(len(lam), dtype=bool)
+    if tension_field:
+        slack = lam[:, 0] <= 1.0
+        lam[:, 1] = np.maximum(lam[:, 1], lam[:, 0] ** -0.5)
+        lam[slack] = 1.0
     lam3 = 1.0 / (lam[:, 0] * lam[:, 1])
     i1 = (lam**2).sum(axis=1) + lam3**2
     c10, c20, c30 = law.coefficients
     slope = c10 + 2 * c20 * (i1 - 3) + 3 * c30 * (i1 - 3) ** 2
     sigma = 2 * slope[:, None] * (lam**2 - lam3[:, None] ** 2)
+    sigma[slack] = 0.0
+    return sigma, lam3
+
+
+def _incompressible(law: HyperelasticLaw, strain: TriangleStrain, thickness: float):
+    sigma, lam3 = incompressible_stress(law, strain.stretch)
     current = thickness * lam3
     return sigma * current[:, None], current
 
@@ -144,8 +188,7 @@ def _svk(law: SaintVenantKirchhoff, strain: TriangleStrain, thickness: float):
     piola = k * (nu * trace[:, None] + (1 - nu) * e)  # principal S_i (Pa)
     lam = strain.stretch
     resultant = thickness * lam**2 * piola / (lam[:, 0] * lam[:, 1])[:, None]
-    lam3 = np.sqrt(np.maximum(1.0 - 2.0 * nu * trace / (1.0 - nu), 0.0))
-    return resultant, thickness * lam3
+    return resultant, thickness * thickness_stretch(lam, nu)
 
 
 def _law_stress(term, pos: np.ndarray):
@@ -198,19 +241,22 @@ def _von_mises(s: np.ndarray) -> np.ndarray:
     return np.sqrt(np.maximum(a * a - a * d + d * d + 3.0 * b * b, 0.0))
 
 
-def sheet_fields(term, pos: np.ndarray, thickness: float, incompressible: bool,
+def sheet_fields(term, pos: np.ndarray, thickness: float,
+                 stress_law: HyperelasticLaw | None = None, tension_field: bool = False,
                  bending: MidedgeBending | None = None, rest: np.ndarray | None = None,
                  flexural_rigidity: float = 0.0, poisson_ratio: float = 0.0) -> dict:
-    """Per triangle at ``pos`` (n, 3) m, from ``term``'s law (its resultant rotated back to
-    the rest frame, R^T n R = U G U / a with F = R U and G, a of :func:`_law_stress`; a
-    direction w at rest is F U^-1 w now) and,
-    with ``bending`` on ``rest`` (n, 3) m, the Kirchhoff-Love moments of
-    :func:`bending_curvature` (flexural rigidity N m, Poisson ratio of the model):
+    """Per triangle at ``pos`` (n, 3) m: the membrane stresses of the incompressible
+    ``stress_law`` at the sheet's stretches (:func:`incompressible_stress`, relaxed by the
+    ``tension_field``), or without one, of ``term``'s own law (its resultant rotated back to the
+    rest frame, R^T n R = U G U / a with F = R U and G, a of :func:`_law_stress`; the thickness
+    of :func:`thickness_stretch` with ``poisson_ratio``); a direction w at rest is F U^-1 w
+    now. With ``bending`` on ``rest`` (n, 3) m, the Kirchhoff-Love moments of
+    :func:`bending_curvature` (flexural rigidity N m, Poisson ratio of the model). Every
+    value is finite at every stretch in (0, inf):
 
     - ``principal_resultant`` (m, 2) N/m and ``principal_direction`` (m, 3), the first's unit
       direction now;
-    - ``thickness`` (m,) m: t / (lambda_1 lambda_2) for an ``incompressible`` law, else the
-      plane-stress sqrt(1 - 2 nu tr E / (1 - nu)) times t (m, rest ``thickness``);
+    - ``thickness`` (m,) m, the current thickness (m, rest ``thickness``);
     - ``principal_stress`` (m, 2) Pa, the mid-surface stresses n_i / t_now;
     - ``bending_stress`` (m, 2) Pa, the principal 6 M_i / t^2 on the surface the normal of
       the rest triangle points to (the other surface's are their negatives; zero without
@@ -221,23 +267,24 @@ def sheet_fields(term, pos: np.ndarray, thickness: float, incompressible: bool,
     - ``green_strain`` and ``log_strain`` (m, 2) 1, principal, largest first;
     - ``curvature`` (m, 2, 2) 1/m, the change of curvature in the rest frame (zero without
       ``bending``)."""
-    F, G, area = _law_stress(term, pos)
+    F = _edges(pos, term.triangles) @ term.rest_inverse
     c_values, c_vectors = _right_stretch(F)
-    U = _stretch_power(c_values, c_vectors, 0.5)
-    n_rot = U @ G @ U / area[:, None, None]
-    values, w = _principal(n_rot)
     stretch = np.sqrt(np.maximum(c_values[:, ::-1], 0.0))
+    axes = c_vectors[:, :, ::-1]                              # principal axes at rest, columns
+    if stress_law is not None:
+        sigma, lam3 = incompressible_stress(stress_law, stretch, tension_field)
+        membrane = np.einsum("mik,mk,mjk->mij", axes, sigma, axes)
+    else:
+        _, G, area = _law_stress(term, pos)
+        U = _stretch_power(c_values, c_vectors, 0.5)
+        lam3 = thickness_stretch(stretch, poisson_ratio)
+        membrane = U @ G @ U / (area * thickness * lam3)[:, None, None]
+    t_now = thickness * lam3
+    values, w = _principal(membrane)
     U_inv = _stretch_power(c_values, c_vectors, -0.5)
     direction = np.einsum("mki,mij,mj->mk", F, U_inv, w[:, :, 0])
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
     green = 0.5 * (stretch**2 - 1.0)
-    if incompressible:
-        lam3 = 1.0 / (stretch[:, 0] * stretch[:, 1])
-    else:
-        lam3 = np.sqrt(np.maximum(1.0 - 2.0 * poisson_ratio * green.sum(axis=1)
-                                  / (1.0 - poisson_ratio), 0.0))
-    t_now = thickness * lam3
-    membrane = n_rot / t_now[:, None, None]
     m = len(term.triangles)
     curvature = np.zeros((m, 2, 2))
     if bending is not None:
@@ -245,8 +292,8 @@ def sheet_fields(term, pos: np.ndarray, thickness: float, incompressible: bool,
     bend = 6.0 * _moment_tensor(curvature, flexural_rigidity, poisson_ratio) / thickness**2
     surfaces = np.stack([membrane + bend, membrane - bend])          # (2, m, 2, 2)
     top = np.stack([np.linalg.eigvalsh(s)[:, -1] for s in surfaces])
-    return dict(principal_resultant=values, principal_direction=direction, thickness=t_now,
-                principal_stress=values / t_now[:, None],
+    return dict(principal_resultant=values * t_now[:, None], principal_direction=direction,
+                thickness=t_now, principal_stress=values,
                 bending_stress=np.linalg.eigvalsh(bend)[:, ::-1],
                 surface_stress=top.max(axis=0),
                 von_mises_stress=np.maximum(_von_mises(surfaces[0]), _von_mises(surfaces[1])),

@@ -123,3 +123,45 @@ def test_a_failed_stress_analysis_keeps_the_run_and_exits_1(tiny_sweep_scene, tm
     assert res["frames"]["node_position"].shape[0] == 2 and "envelope" not in res
     assert main(["show", str(out)]) == 0
     assert "stress: not analysed (RuntimeError: no rule today)" in capsys.readouterr().out
+
+
+def test_a_frame_whose_stresses_are_not_finite_fails_and_is_written_as_missing(
+        tiny_sweep_scene, tmp_path, monkeypatch, capsys, caplog):
+    """A frame where a field would be inf or NaN (here: the law's rule gives an infinite
+    stress in the second frame) is a failed frame: its fields are the datasets' _FillValue
+    in result.h5 (no non-finite number in any dataset), ``stress_valid`` is false, stderr and
+    the result name it, the run exits 3 and ``fsi show`` does not say converged: all. (The
+    sweep's full inversion is analysed first, so the second call is the fill's first frame.)"""
+    import h5py
+
+    from fsi.analysis.membrane_fields import FieldRule
+
+    calls = {"n": 0}
+    sheet = FieldRule.sheet
+
+    def second_frame_infinite(self, pos):
+        fields = sheet(self, pos)
+        calls["n"] += 1
+        if calls["n"] == 2:
+            fields["principal_stress"][0, 0] = np.inf
+        return fields
+
+    monkeypatch.setattr(FieldRule, "sheet", second_frame_infinite)
+    out = tmp_path / "run"
+    assert main(["run", str(tiny_sweep_scene), "--out", str(out), "--no-plots"]) == 3
+    err = capsys.readouterr().err
+    assert "1 of 2 frames (stress fields not finite)" in err
+    assert "the stress fields are not finite in frames frame " in caplog.text
+    with h5py.File(out / "result.h5") as f:
+        def finite(name, item):
+            if isinstance(item, h5py.Dataset) and item.dtype.kind == "f":
+                assert np.all(np.isfinite(item[()])), name
+        f.visititems(finite)
+        ds = f["frames/von_mises_stress"]
+        assert np.all(ds[0] == ds.attrs["_FillValue"]) and np.all(ds[1] != ds.attrs["_FillValue"])
+        assert list(f["frames/stress_valid"][()]) == [False, True]
+        assert f.attrs["stress_invalid_frames"].startswith("frames frame 0")
+    res = read_result(out)
+    assert np.all(np.isnan(res["frames"]["von_mises_stress"][0]))
+    assert main(["show", str(out)]) == 0
+    assert "converged: all" not in capsys.readouterr().out

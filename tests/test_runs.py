@@ -36,7 +36,8 @@ def test_result_layout(ramp_runs):
         assert f["membrane/face_nodes"].shape == (49, 4)
         assert f["membrane/fixed"].dtype == bool
         assert "procedure = \"thesis-ramp\"" in f.attrs["scene"]
-        for name in ("node_position", "fill_fraction", "liquid_volume", "pressure_level",
+        for name in ("node_position", "tank_fraction", "inversion_fraction", "liquid_volume",
+                     "pressure_level",
                      "wall_seconds"):
             assert f["frames"][name].shape[0] == 3
         assert f["frames/node_position"].shape == (3, n, 3)
@@ -257,7 +258,8 @@ def test_static_sweep_speaks_tank_fraction(tmp_path, capsys):
     frames = res["frames"]
     assert res["attrs"]["fill_scale"] == "tank"
     assert frames["tank_fraction"] == pytest.approx([0.1, 0.3], abs=1e-6)
-    assert np.array_equal(frames["fill_fraction"], frames["tank_fraction"])
+    assert "inversion_fraction" not in frames  # the thesis's scale only where App. J is run
+    assert frames["target_fill"] == pytest.approx([0.1, 0.3])
     assert sorted(p.name for p in (out / "plots").glob("cross_section_*.png")) == [
         "cross_section_tank_010.0.png", "cross_section_tank_030.0.png"]
     capsys.readouterr()

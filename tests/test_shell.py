@@ -84,5 +84,5 @@ def test_every_model_runs_a_volume_sweep(name):
     result = PROCEDURES["volume-sweep"](build(scene), lambda f, m: None)
     frames = result.groups["frames"]
     assert result.attrs["structure_model"] == name
-    assert np.allclose(frames["fill_fraction"], [0.0, 0.3], atol=1e-3)
+    assert np.allclose(frames["inversion_fraction"], [0.0, 0.3], atol=1e-3)
     assert frames["converged"].all()

@@ -23,9 +23,10 @@ def sweep():
 def test_every_fill_meets_volume_strain_and_rim(sweep):
     setup, result = sweep
     f = result.groups["frames"]
-    assert f["target_fill_fraction"].tolist() == pytest.approx([0.1 * k for k in range(11)])
+    assert f["target_fill"].tolist() == pytest.approx([0.1 * k for k in range(11)])
     empty, full = result.attrs["empty_volume"], result.attrs["full_volume"]
-    target = empty + f["target_fill_fraction"] * (full - empty)
+    target = empty + f["target_fill"] * (full - empty)
+    assert np.allclose(f["inversion_fraction"], f["target_fill"], atol=1e-3)
     assert np.all(np.abs(f["liquid_volume"] - target) <= 1e-3 * target)
     assert np.all(f["strain_error"] <= setup.constraints.error_limit)
     assert np.all(f["converged"])

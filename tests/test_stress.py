@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 from conftest import clamped_disc_under_pressure
 
 from fsi.constants import TANK_RADIUS
@@ -279,7 +280,7 @@ def test_a_clamped_plates_rim_bending_stress_is_timoshenkos():
         pos[:, 2] = scale * w
         term = MembraneTerm.from_triangle_membrane(TriangleMembrane(x, bending.triangles, t),
                                                    SaintVenantKirchhoff(youngs, NU))
-        fields = sheet_fields(term, pos, t, False, bending, x, D, NU)
+        fields = sheet_fields(term, pos, t, None, False, bending, x, D, NU)
         sigma = np.abs(fields["bending_stress"]).max(axis=1) / scale
         tri = bending.triangles
         area = 0.5 * np.linalg.norm(np.cross(x[tri[:, 1]] - x[tri[:, 0]],
@@ -319,3 +320,135 @@ def test_the_fold_count_of_sheared_tension_field_bands():
         for fold, (lo, hi) in zip(sorted(folds, key=lambda f: centroid[f].mean()), bands):
             cell = 0.1                                 # a grid cell is about 0.08 R
             assert np.all((centroid[fold] > lo - cell) & (centroid[fold] < hi + cell))
+
+
+# -- rubber: the incompressible law's stresses under every model --------------------------
+
+def _rubber_rules(poisson_ratio: float = 0.5, grid_size: int = 6):
+    """The stress rule of every structure model (:data:`fsi.analysis.membrane_fields.
+    FIELD_RULES`, the shell under both its laws, the XPBD membrane with and without the
+    tension field) on a flat disc (a = 0.1 m) of the thesis rubber with ``poisson_ratio``:
+    name -> :class:`~fsi.analysis.membrane_fields.FieldRule`."""
+    from fsi.analysis.membrane_fields import FIELD_RULES
+    from fsi.constants import MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS
+    from structure.model import Material, disc_model
+
+    rules = {}
+    for wrinkling in ("none", "tension-field"):
+        material = Material(MEMBRANE_THICKNESS, MEMBRANE_DENSITY, MEMBRANE_YOUNGS_MODULUS,
+                            poisson_ratio, wrinkling)
+        model = disc_model(grid_size, 0.1, material)
+        rules[f"xpbd {wrinkling}"] = FIELD_RULES["xpbd"](model, None)
+        if wrinkling == "none":
+            rules["thesis"] = FIELD_RULES["thesis"](model, None)
+            for law in ("saint-venant-kirchhoff", "neo-hookean"):
+                rules[f"shell {law}"] = FIELD_RULES["shell"](model,
+                                                             {"structure": {"shell_law": law}})
+    return rules
+
+
+def _stretched(rest: np.ndarray, lam1: float, lam2: float, angle: float) -> np.ndarray:
+    """The flat rest positions (n, 3) m, z = 0, stretched by ``lam1`` along the direction at
+    ``angle`` (rad) in the plane and by ``lam2`` across it."""
+    d = np.array([np.cos(angle), np.sin(angle)])
+    e = np.array([-d[1], d[0]])
+    out = rest.copy()
+    out[:, :2] = rest[:, :2] @ (lam1 * np.outer(d, d) + lam2 * np.outer(e, e)).T
+    return out
+
+
+def test_a_rubber_sheets_uniaxial_stress_is_the_incompressible_closed_form_under_every_model():
+    """A sheet of nu = 0.5 in incompressible uniaxial tension (lambda, lambda^-1/2) reports
+    sigma_1 = mu (lambda^2 - 1 / lambda), sigma_2 = 0 and t lambda^-1/2 (neo-Hookean, mu = E / 3;
+    Ogden 1984, Sec. 4.3) under every structure model, whatever law it ran with, to
+    round-off; at lambda = 1.6 Saint Venant-Kirchhoff's own plane-stress thickness,
+    t sqrt(1 - 2 nu tr E / (1 - nu)), would already be zero (tr E = 0.58)."""
+    from fsi.constants import MEMBRANE_THICKNESS as t, MEMBRANE_YOUNGS_MODULUS as E
+
+    mu = E / 3
+    for lam in (1.2, 1.6, 2.5):
+        for name, rule in _rubber_rules().items():
+            f = rule.sheet(_stretched(rule.rest, lam, lam**-0.5, 0.7))
+            assert np.allclose(f["principal_stress"][:, 0], mu * (lam**2 - 1 / lam),
+                               rtol=1e-10), name
+            assert np.allclose(f["principal_stress"][:, 1], 0.0, atol=1e-9 * mu), name
+            assert np.allclose(f["thickness"], t * lam**-0.5, rtol=1e-12), name
+            assert np.allclose(f["principal_resultant"][:, 0],
+                               mu * (lam**2 - 1 / lam) * t * lam**-0.5, rtol=1e-10), name
+            assert "neo-hookean" in rule.law, name
+    green = 0.5 * (np.array([1.6, 1.6**-0.5]) ** 2 - 1)
+    assert 1 - 2 * 0.5 * green.sum() / 0.5 < 0
+
+
+def test_a_tension_field_rubber_sheet_carries_no_compression():
+    """With the tension field, a rubber sheet narrower than its natural width (lambda_2 <
+    lambda_1^-1/2) is wrinkled and carries the uniaxial mu (lambda_1^2 - 1 / lambda_1) with
+    sigma_2 = 0 (Pipkin 1986); one shorter than at rest both ways carries none; the same
+    sheet without the tension field carries compression across."""
+    from fsi.constants import MEMBRANE_YOUNGS_MODULUS as E
+
+    rules = _rubber_rules()
+    wrinkled = _stretched(rules["xpbd tension-field"].rest, 1.3, 0.7, 0.2)
+    f = rules["xpbd tension-field"].sheet(wrinkled)
+    assert np.allclose(f["principal_stress"][:, 0], E / 3 * (1.3**2 - 1 / 1.3), rtol=1e-10)
+    assert np.allclose(f["principal_stress"][:, 1], 0.0, atol=1e-3)
+    assert np.all(rules["xpbd none"].sheet(wrinkled)["principal_stress"][:, 1] < -1e4)
+    slack = rules["xpbd tension-field"].sheet(_stretched(wrinkled, 0.9 / 1.3, 0.8 / 0.7, 0.2))
+    assert np.all(slack["principal_stress"] == 0.0)
+
+
+def test_the_thesis_static_drain_frame_has_finite_incompressible_stresses():
+    """The thesis-static drain frame at tank fraction 0.398 (``tests/data``, the run's node
+    positions): a triangle there stretches so far (tr E >= 0.5) that Saint Venant-Kirchhoff's
+    plane-stress thickness at nu = 0.4999 was zero and its stress infinite (40 MPa in the
+    next frame for a rubber of E = 8.6 MPa); under the incompressible law of the same E every
+    field is finite, the thickness is t / (lambda_1 lambda_2) and the stresses are
+    mu (lambda_i^2 - lambda_3^2) at each triangle's stretches."""
+    from pathlib import Path
+
+    from fsi.analysis.membrane_fields import FIELD_RULES
+    from fsi.constants import MEMBRANE_YOUNGS_MODULUS as E, TANK_RADIUS
+    from fsi.analysis.membrane_fields import TRIANGLE_FIELDS
+    from structure.model import Material, hemisphere_model
+    from fsi import constants as C
+
+    frame = np.load(Path(__file__).parent / "data" / "thesis_static_drain_tank_0398.npz")
+    model = hemisphere_model(26, TANK_RADIUS, Material(C.MEMBRANE_THICKNESS,
+                                                       C.MEMBRANE_DENSITY, E))
+    rule = FIELD_RULES["thesis"](model, None)
+    f = rule.sheet(frame["node_position"])
+    for name in TRIANGLE_FIELDS:
+        assert np.all(np.isfinite(f[name])), name
+    green = f["green_strain"]
+    svk = 1 - 2 * 0.4999 * green.sum(axis=1) / (1 - 0.4999)
+    assert svk.min() <= 0                                  # the artefact the frame held
+    lam = np.exp(f["log_strain"])
+    lam3 = 1 / lam.prod(axis=1)
+    assert np.allclose(f["thickness"], C.MEMBRANE_THICKNESS * lam3, rtol=1e-12)
+    assert np.allclose(f["principal_stress"], E / 3 * (lam**2 - lam3[:, None] ** 2),
+                       rtol=1e-9, atol=1e-6 * E)
+
+
+@settings(max_examples=60, deadline=None)
+@given(lam1=st.floats(0.2, 3.0), lam2=st.floats(0.2, 3.0), angle=st.floats(0.0, np.pi),
+       poisson_ratio=st.sampled_from([0.0, 0.3, 0.45, 0.5]))
+def test_no_stress_field_of_any_law_is_non_finite(lam1, lam2, angle, poisson_ratio):
+    """Every field of every structure model's stress rule, compressible or rubber, with and
+    without the tension field, is finite for principal stretches in [0.2, 3] at any angle
+    (property test)."""
+    from fsi.analysis.membrane_fields import TRIANGLE_FIELDS
+
+    for name, rule in _rules_by_poisson(poisson_ratio).items():
+        f = rule.sheet(_stretched(rule.rest, lam1, lam2, angle))
+        for key in TRIANGLE_FIELDS:
+            assert np.all(np.isfinite(f[key])), (name, key)
+        assert np.all(f["thickness"] > 0), name
+
+
+_RULES: dict = {}
+
+
+def _rules_by_poisson(poisson_ratio: float) -> dict:
+    if poisson_ratio not in _RULES:
+        _RULES[poisson_ratio] = _rubber_rules(poisson_ratio, grid_size=4)
+    return _RULES[poisson_ratio]

@@ -265,9 +265,9 @@ def test_frames_between_requested_fills_are_left_out_of_the_fill_axis():
     axis = SimpleNamespace(name="pressure_tolerance")
     cases = [SimpleNamespace(name="a", index=(0,)), SimpleNamespace(name="b", index=(1,))]
     sweep = SimpleNamespace(axes=[axis], shape=(2,), cases=cases, reference=None)
-    frames = {"a": {"target_fill_fraction": np.array([nan, 0.2, nan, 0.3]),
+    frames = {"a": {"target_fill": np.array([nan, 0.2, nan, 0.3]),
                     "tank_fraction": np.array([0.15, 0.2, 0.25, 0.3])},
-              "b": {"target_fill_fraction": np.array([nan, nan]),
+              "b": {"target_fill": np.array([nan, nan]),
                     "tank_fraction": np.array([0.1, 0.12])}}
     fills, data = fill_variables(sweep, {n: {"frames": f} for n, f in frames.items()})
     assert fills == [0.2, 0.3]

@@ -9,6 +9,8 @@ On ``builder-inited`` this writes, under ``docs/_generated/``:
 * ``diaphragm_outputs.md``: the diaphragm's stress, strain, topology, envelope, events and
   cycles datasets with their shapes and units, from
   :func:`fsi.analysis.diaphragm.reference_markdown`;
+* ``static_table.md``: the columns of the table a static run prints, from
+  :func:`fsi.procedures.static.columns_markdown`;
 * ``notebooks/*.ipynb``: copies of ``notebooks/*.ipynb``, which MyST-NB executes and renders.
 
 It also checks that every module of the packages has an ``automodule`` on a page of
@@ -38,6 +40,8 @@ REFERENCES = (
      "Generated from `fsi.io.output.reference_markdown()`."),
     ("diaphragm_outputs.md", "fsi.analysis.diaphragm", "reference_markdown",
      "Generated from `fsi.analysis.diaphragm.reference_markdown()`."),
+    ("static_table.md", "fsi.procedures.static", "columns_markdown",
+     "Generated from `fsi.procedures.static.columns_markdown()`."),
 )
 
 

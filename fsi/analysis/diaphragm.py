@@ -17,13 +17,18 @@ over the main sequence (:data:`fsi.io.output.MAIN_GROUP`):
 """
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from fsi.analysis.envelope import envelope, peak_attributes, stamp_name
 from fsi.analysis.events import topology_events
 from fsi.analysis.fatigue import miner_damage, stress_cycles
-from fsi.analysis.membrane_fields import FIELD_RULES, SheetGeometry, group_fields
+from fsi.analysis.membrane_fields import (FIELD_RULES, SheetGeometry, group_fields,
+                                          invalid_frames)
 from fsi.io.output import MAIN_GROUP as ENVELOPE_GROUP
+
+log = logging.getLogger(__name__)
 
 
 def membrane_groups(result) -> list[str]:
@@ -38,7 +43,8 @@ def cycles_of(group: dict, peak_stress: np.ndarray, sheet: np.ndarray, how_many:
     ``surface_stress`` history."""
     rows = []
     for t in np.argsort(np.where(sheet, peak_stress, -np.inf))[::-1][:how_many]:
-        for r, mean, count in stress_cycles(group["surface_stress"][:, t]):
+        history = np.asarray(group["surface_stress"][:, t], dtype=float)
+        for r, mean, count in stress_cycles(history[np.isfinite(history)]):
             rows.append((t, r, mean, count))
     a = np.asarray(rows, dtype=float).reshape(-1, 4)
     return dict(triangle=a[:, 0].astype(np.int64), stress_range=a[:, 1], mean_stress=a[:, 2],
@@ -62,6 +68,11 @@ def annotate(setup, result) -> None:
         groups[name] = group
         if name == ENVELOPE_GROUP:
             groups.update(_over_the_run(setup, geometry, group, fields, folds, attrs))
+    failed = invalid_frames(groups)
+    if failed:
+        attrs["stress_invalid_frames"] = "; ".join(failed)
+        log.warning("the stress fields are not finite in %s: those frames' fields are "
+                    "written as missing", attrs["stress_invalid_frames"])
     result.groups.update(groups)
     result.attrs.update(attrs)
 
@@ -73,13 +84,17 @@ def _over_the_run(setup, geometry: SheetGeometry, group: dict, fields: dict, fol
     stamp = stamp_name(group)
     env = envelope(group, geometry.rest_polar, geometry.rest_azimuth)
     attrs.update(peak_attributes(env, stamp, geometry.free_triangle))
+    k = int(np.argmin(np.abs(np.asarray(group[stamp], float) - attrs[f"peak_stress_{stamp}"])))
+    attrs["peak_stress_membrane"] = float(group["principal_stress"][k,
+                                                                     attrs["peak_stress_triangle"], 0])
     for name, peak in (("stress", "peak_stress"), ("strain", "peak_strain")):
         limit = setup.scene["limits"][name]
         if limit > 0:
             attrs[f"{name}_margin"] = float(limit / attrs[peak])
     if setup.procedure.holds_volume:
         start = group["surface_stress"][0][geometry.free_triangle]
-        attrs["dynamic_amplification"] = float(attrs["peak_stress"] / np.max(start))
+        attrs["dynamic_amplification"] = float(attrs["peak_stress"] / np.max(start)) \
+            if group["stress_valid"][0] else np.nan
     free_area = float(geometry.node_area[~setup.model.node_fixed].sum())
     events = topology_events(np.asarray(group[stamp], float), fields, folds,
                              geometry.triangle_area, geometry.rest_polar,
@@ -113,9 +128,9 @@ def summary_lines(res: dict) -> list[str]:
         return [f"  stress: not analysed ({a['stress_analysis_failure']})"]
     if "peak_stress" not in a:
         return []
-    stamp = "time" if "peak_stress_time" in a else "fill_fraction"
+    stamp = "time" if "peak_stress_time" in a else "tank_fraction"
     unit = " s" if stamp == "time" else ""
-    label = "t =" if stamp == "time" else "fill"
+    label = "t =" if stamp == "time" else "tank fraction"
 
     def peak(name, value):
         return (f"{value} at polar {a[f'{name}_polar_deg']:.1f} deg, azimuth "
@@ -130,8 +145,10 @@ def summary_lines(res: dict) -> list[str]:
         verdict = "EXCEEDED" if a[key] < 1 else "within it"
         return f"; limit / peak = {a[key]:.3g} ({verdict})"
 
+    split = (f" (membrane {a['peak_stress_membrane'] / 1e6:.4g} MPa, the rest bending)"
+             if "peak_stress_membrane" in a else "")
     lines = [f"  stress ({a.get('stress_law', '?')}): peak "
-             + peak("peak_stress", f"{a['peak_stress'] / 1e6:.4g} MPa") + amplification
+             + peak("peak_stress", f"{a['peak_stress'] / 1e6:.4g} MPa{split}") + amplification
              + margin("stress"),
              "  strain: peak log strain " + peak("peak_strain", f"{a['peak_strain']:.4g}")
              + margin("strain")]
@@ -175,6 +192,9 @@ DATASETS = {
     "<frames>/green_strain": ("(f, m, 2)", "principal Green-Lagrange strains"),
     "<frames>/log_strain": ("(f, m, 2)", "principal logarithmic strains"),
     "<frames>/thickness": ("(f, m)", "current thickness"),
+    "<frames>/stress_valid": ("(f,)", "true where every stress, strain and thickness of the "
+                              "frame is finite; a false frame's fields are missing "
+                              "(_FillValue) and the run exits 3"),
     "<frames>/fold_count": ("(f,)", "folds: clusters of wrinkled or creased triangles"),
     "<frames>/inverted_area_fraction": ("(f,)", "share of the free sheet across the rim's "
                                         "plane"),
@@ -183,13 +203,14 @@ DATASETS = {
     "<frames>/self_contact_nodes": ("(f,)", "nodes touching a node not near them at rest"),
     "envelope/peak_stress": ("(m,)", "each triangle's largest surface_stress over the run"),
     "envelope/peak_stress_time": ("(m,)", "when, in a run in time"),
-    "envelope/peak_stress_fill_fraction": ("(m,)", "at which fill, in a static sweep"),
+    "envelope/peak_stress_tank_fraction": ("(m,)", "at which tank fraction, in a static "
+                                           "sweep"),
     "envelope/peak_strain": ("(m,)", "each triangle's largest principal log strain"),
-    "envelope/peak_strain_time, peak_strain_fill_fraction": ("(m,)", "when, or at which "
-                                                              "fill"),
+    "envelope/peak_strain_time, peak_strain_tank_fraction": ("(m,)", "when, or at which "
+                                                              "tank fraction"),
     "envelope/polar_deg, azimuth_deg": ("(m,)", "each triangle's place on the rest shape"),
-    "events/time, fill_fraction": ("(e,)", "the frame where a topology change is first "
-                                   "seen (its time in a run in time, else its fill)"),
+    "events/time, tank_fraction": ("(e,)", "the frame where a topology change is first "
+                                   "seen (its time in a run in time, else its tank fraction)"),
     "events/event": ("(e,)", "what changed: fold forms / vanishes, wall contact, self-contact "
                      "or inversion starts / ends"),
     "events/polar_deg, azimuth_deg": ("(e,)", "where a fold is (NaN for the others)"),
@@ -203,13 +224,20 @@ quad of ``/membrane/face_nodes``, :func:`structure.grid.triangles_from_quads`), 
 c cycles."""
 
 ATTRIBUTES = {
-    "stress_law": "what the stresses are from (the run's law)",
+    "stress_law": "what the stresses are from: the incompressible neo-Hookean law of the "
+                  "scene's E for rubber (nu >= 0.49) under every model, else the run's law",
+    "stress_invalid_frames": "the frames whose stress fields were not finite (written as "
+                             "missing); absent when there are none",
     "peak_stress": "the run's largest surface stress over the free sheet (the triangles with "
                    "a free node)",
-    "peak_stress_time, peak_stress_fill_fraction": "when, or at which fill",
+    "peak_stress_time, peak_stress_tank_fraction": "when, or at which tank fraction",
+    "peak_stress_triangle, peak_strain_triangle": "which triangle (an index of the frames' "
+                                                  "per-triangle datasets)",
+    "peak_stress_membrane": "the membrane part of the peak: that triangle's largest principal "
+                            "mid-surface stress in that frame (the rest is bending)",
     "peak_stress_polar_deg, peak_stress_azimuth_deg": "where, on the rest shape",
     "peak_strain": "the run's largest principal log strain",
-    "peak_strain_time, peak_strain_fill_fraction": "when, or at which fill",
+    "peak_strain_time, peak_strain_tank_fraction": "when, or at which tank fraction",
     "peak_strain_polar_deg, peak_strain_azimuth_deg": "where, on the rest shape",
     "stress_margin, strain_margin": "limits.stress (limits.strain) over the run's peak: "
                                     "below 1, the limit is exceeded (with the limit only)",

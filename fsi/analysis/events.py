@@ -11,7 +11,7 @@ folds (clusters of triangles):
 - ``inversion starts`` / ``ends``: ``inverted_area_fraction`` leaves / returns to zero.
 
 The rows (group ``events``): the stamp of the frame where the new state is first seen
-(``time`` s, or ``fill_fraction``), ``event`` (text), ``polar_deg`` and ``azimuth_deg`` (the
+(``time`` s, or ``tank_fraction``), ``event`` (text), ``polar_deg`` and ``azimuth_deg`` (the
 place, NaN where the event has none) and ``area`` (m^2: the fold's, the contact's, or the
 inverted fraction times the sheet's free rest area).
 """

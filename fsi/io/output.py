@@ -7,7 +7,7 @@ Layout of ``result.h5`` (the documentation's output table is :func:`reference_ma
     /membrane/face_nodes      (n_faces, 4) int64, quads
     /membrane/fixed           (n_nodes,) bool
     /<group>/node_position    (n_frames, n_nodes, 3) float64, m
-    /<group>/fill_fraction    (n_frames,) -, measured
+    /<group>/tank_fraction    (n_frames,) -, measured V / (4/3 pi R^3)
     /<group>/liquid_volume    (n_frames,) m^3
     /<group>/pressure_level   (n_frames,) Pa, uniform pressure level p_ref at the tank centre
     /<group>/equivalent_height (n_frames,) m, equivalent fluid height h = p_ref / (rho |b|)
@@ -19,11 +19,16 @@ The groups are :data:`GROUPS`. The XDMF series
 :data:`XDMF_CELL_FIELDS`) is stamped with ``frames/time`` where there is one, else with the fill
 fraction.
 
+A float dataset holds no NaN or infinity: an entry that does not apply to its record (the
+level of an empty tank) is the dataset's ``_FillValue`` (:data:`FILL_VALUES`), which
+:func:`read_result`, netCDF and xarray read as missing.
+
 Files are written into a temporary folder inside the output folder and moved into place only
 when complete, so an interrupted run leaves no half-written result.
 """
 from __future__ import annotations
 
+import logging
 import os
 import shutil
 import tempfile
@@ -35,8 +40,10 @@ import numpy as np
 
 from structure.grid import triangles_from_quads
 
+log = logging.getLogger(__name__)
+
 UNITS = {
-    "node_position": "m", "fill_fraction": "1", "target_fill_fraction": "1",
+    "node_position": "m", "inversion_fraction": "1", "target_fill": "1",
     "liquid_volume": "m^3", "pressure_level": "Pa", "equivalent_height": "m",
     "wall_seconds": "s", "relaxation_steps": "1", "converged": "1", "strain_error": "1",
     "strain_max": "1", "time": "s", "node_speed_max": "m/s",
@@ -59,7 +66,7 @@ UNITS = {
     "bending_stress": "Pa", "surface_stress": "Pa", "von_mises_stress": "Pa",
     "green_strain": "1", "log_strain": "1", "thickness": "m", "fold_count": "1",
     "inverted_area_fraction": "1", "inversion_front_deg": "deg", "wall_contact_area": "m^2",
-    "self_contact_nodes": "1", "peak_stress": "Pa", "peak_strain": "1", "polar_deg": "deg",
+    "self_contact_nodes": "1", "stress_valid": "1", "peak_stress": "Pa", "peak_strain": "1", "polar_deg": "deg",
     "azimuth_deg": "deg", "event": "1 (text)", "area": "m^2", "triangle": "1",
     "stress_range": "Pa", "mean_stress": "Pa", "count": "1",
 }
@@ -73,14 +80,15 @@ ATTR_UNITS = {
     "peak_moment_y": "N m", "static_compliance": "s^2", "modal_compliance": "s^2",
     "slosh_mass_fraction": "1", "target_tank_fraction": "1", "level": "m",
     "run_seconds": "s", "seconds_per_period": "s", "window": "s", "viscosity": "Pa s",
-    "full_volume": "m^3", "empty_volume": "m^3", "start_volume": "m^3", "port_stub_volume": "m^3",
+    "full_volume": "m^3", "full_tank_fraction": "1", "empty_volume": "m^3", "start_volume": "m^3", "port_stub_volume": "m^3",
     "start_pressure_level": "Pa", "substep": "s", "centre_of_mass_amplitude": "m",
     "first_mode_bound_hz": "Hz", "miner_damage": "1", "miner_damage_triangle": "1",
+    "peak_stress_triangle": "1", "peak_strain_triangle": "1", "peak_stress_membrane": "Pa",
     "dynamic_amplification": "1", "stress_margin": "1", "strain_margin": "1",
 }
 """Units of the run facts (result attributes) a sweep's dataset gathers."""
 
-UNIT_SUFFIXES = {"_std": None, "_time": "s", "_fill_fraction": "1", "_deg": "deg", "_height": "m", "_mass": "kg", "_hz": "Hz", "_seconds": "s",
+UNIT_SUFFIXES = {"_std": None, "_time": "s", "_tank_fraction": "1", "_deg": "deg", "_height": "m", "_mass": "kg", "_hz": "Hz", "_seconds": "s",
                  "_volume": "m^3"}
 """Units by the name's ending (``_std``: the units of the name without it)."""
 
@@ -145,8 +153,8 @@ MAIN_GROUP = "frames"
 
 
 def frame_stamp(group: dict) -> str:
-    """What stamps a group's frames: ``time`` (s) where it has one, else ``fill_fraction``."""
-    return "time" if "time" in group else "fill_fraction"
+    """What stamps a group's frames: ``time`` (s) where it has one, else ``tank_fraction``."""
+    return "time" if "time" in group else "tank_fraction"
 
 
 RESULT_FILE = "result.h5"
@@ -191,8 +199,7 @@ def write_result(out_dir: Path, scene, model, result) -> Path:
             for name, frames in result.groups.items():
                 grp = f.create_group(name)
                 for key, arr in frames.items():
-                    ds = grp.create_dataset(key, data=arr)
-                    ds.attrs["units"] = units_of(key)
+                    _write_dataset(grp, key, arr, f"{name}/{key}")
         for group, name in XDMF_FILES.items():
             if "node_position" in result.groups.get(group, {}):
                 _write_xdmf(tmp, model, result.groups[group], name)
@@ -201,6 +208,40 @@ def write_result(out_dir: Path, scene, model, result) -> Path:
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return out_dir / RESULT_FILE
+
+
+FILL_VALUES = {np.dtype(np.float32): np.float32(9.96921e36),
+               np.dtype(np.float64): np.float64(9.969209968386869e36)}
+"""The value that stands for a missing entry of a float dataset (netCDF's default fill, so
+that netCDF and xarray readers mask it), declared in the dataset's ``_FillValue`` attribute
+(CF conventions, Sec. 2.5.1): a level where the tank is empty, the fields of a frame whose
+stresses could not be computed. :func:`read_result` gives NaN in its place."""
+
+
+def _write_dataset(group, key: str, data, name: str) -> None:
+    """Write ``data`` as dataset ``key`` of ``group`` with its ``units``; a float dataset's
+    NaN entries (not applicable to that record) as :data:`FILL_VALUES` with ``_FillValue``
+    declared; an infinite entry is a missing one too, and logged (``name``)."""
+    arr = np.asarray(data)
+    fill = FILL_VALUES.get(arr.dtype)
+    missing = ~np.isfinite(arr) if fill is not None else None
+    if missing is not None and missing.any():
+        if np.isinf(arr).any():
+            log.warning("%s: %d infinite entries written as missing", name,
+                        int(np.isinf(arr).sum()))
+        arr = np.where(missing, fill, arr)
+    ds = group.create_dataset(key, data=arr)
+    ds.attrs["units"] = units_of(key)
+    if missing is not None and missing.any():
+        ds.attrs["_FillValue"] = fill
+
+
+def _read_dataset(ds) -> np.ndarray:
+    """A dataset's values, NaN where it holds its ``_FillValue``."""
+    value = ds[()]
+    if "_FillValue" in ds.attrs:
+        value = np.where(value == ds.attrs["_FillValue"], np.nan, value)
+    return value
 
 
 XDMF_CELL_FIELDS = {"von_mises_stress": None, "surface_stress": None,
@@ -263,5 +304,5 @@ def read_result(path) -> dict:
                     not all(isinstance(ds, h5py.Dataset) for ds in grp.values()):
                 raise ValueError(f"'{path}' is not a result file: '{name}' is not a group of "
                                  f"datasets")
-            out[name] = {k: ds[()] for k, ds in grp.items()}
+            out[name] = {k: _read_dataset(ds) for k, ds in grp.items()}
     return out

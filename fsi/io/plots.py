@@ -64,7 +64,7 @@ def membrane_plots(res: dict, out: Path) -> list[Path]:
     frames = res["frames"]
     for k, pos in enumerate(frames["node_position"]):
         label = fill_label(frames, k, scale)
-        target = frames["target_fill_fraction"][k] if "target_fill_fraction" in frames \
+        target = frames["target_fill"][k] if "target_fill" in frames \
             else np.nan
         tag = f"{FILE_TAGS.get(scale, 'fill')}_{100 * float(target):05.1f}" \
             if np.isfinite(target) else f"fill_{k:03d}"
@@ -86,8 +86,8 @@ def fill_label(group: dict, k: int, scale: str) -> str:
     scale the fill of the full inversion beside it; a frame whose solve (or window) did not
     converge says so."""
     text = f"tank fraction {float(group['tank_fraction'][k]):.3f}"
-    if scale == "full-inversion":
-        text += f" (fill {100 * float(group['fill_fraction'][k]):.1f} % of the full inversion)"
+    if "inversion_fraction" in group:
+        text += f" (inversion fraction {float(group['inversion_fraction'][k]):.3f})"
     if "converged" in group and not bool(group["converged"][k]):
         text += " - NOT CONVERGED"
     return text

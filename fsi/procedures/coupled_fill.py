@@ -2,7 +2,7 @@
 and the liquid's flow coupled in time.
 
 * Start: the membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction
-  V / (4/3 pi R^3); every frame's ``fill_fraction`` is on that scale) under the hydrostatic
+  V / (4/3 pi R^3), every frame's ``tank_fraction``) under the hydrostatic
   model (XPBD relaxation with the same substep as the dynamics, so the start is at rest).
 * Structure: XPBD windows (:func:`structure.xpbd.step`, plain substeps of
   ``dynamics.substep_fraction`` of the explicit limit), the liquid volume held at what the
@@ -165,10 +165,10 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
 def frame(setup, parts: Coupled, state, pressure, level, t, seconds, converged) -> dict:
     """A frame of the coupled run at time ``t`` (s): the membrane frame, its node velocities,
     the interface pressure (Pa, with the level) and the liquid's volume and largest speed."""
-    return dict(membrane_frame(setup, parts.scale, state.node_position, level),
+    return dict(membrane_frame(setup, state.node_position, level),
                 node_velocity=state.node_velocity.copy(),
                 interface_pressure=np.asarray(pressure, dtype=float) + level, time=float(t),
-                target_fill_fraction=np.nan, fluid_liquid_volume=parts.fluid.liquid_volume,
+                target_fill=np.nan, fluid_liquid_volume=parts.fluid.liquid_volume,
                 node_speed_max=float(np.linalg.norm(state.node_velocity, axis=1).max()),
                 fluid_speed_max=parts.fluid.velocity_magnitude_max(),
                 wall_seconds=float(seconds), converged=bool(converged))

@@ -3,10 +3,12 @@ and ``[relaxation]`` tables, the frame record of a static equilibrium, the 100 %
 that every static result carries, and the summary ``fsi run`` prints."""
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 
 from structure.statics import strain_error
-from structure.volume import FillScale
+from structure.volume import FillScale, tank_volume
 
 from fsi.setup.fill import FILL_SCALES, FullInversion
 from fsi.lifecycle import membrane_frame
@@ -47,13 +49,15 @@ RELAXATION = Table({
 """[relaxation]: the thesis model's static relaxation (:mod:`structure.statics`)."""
 
 
-def static_frame(setup, scale: FillScale, node_position, pressure_level, target_fill,
-                 seconds, steps, converged) -> dict:
-    """A static equilibrium's frame: :func:`fsi.lifecycle.membrane_frame`, the target fill,
-    wall seconds, solver steps, convergence and the thesis strain measures."""
+def static_frame(setup, node_position, pressure_level, target_fill, seconds, steps, converged,
+                 inversion: Optional[FillScale] = None) -> dict:
+    """A static equilibrium's frame: :func:`fsi.lifecycle.membrane_frame` (with the
+    ``inversion`` fraction where App. J is reproduced), the requested fill ``target_fill`` (on
+    the run's ``fill_scale``; NaN for a frame not requested), wall seconds, solver steps,
+    convergence and the thesis strain measures."""
     mean, worst = strain_error(setup.model, node_position)
-    return dict(membrane_frame(setup, scale, node_position, pressure_level),
-                target_fill_fraction=float(target_fill), wall_seconds=seconds,
+    return dict(membrane_frame(setup, node_position, pressure_level, inversion),
+                target_fill=float(target_fill), wall_seconds=seconds,
                 relaxation_steps=steps, converged=bool(converged), strain_error=mean,
                 strain_max=worst)
 
@@ -67,27 +71,76 @@ def full_inversion_parts(setup, full: FullInversion) -> tuple[dict, dict]:
                                       strain_max=np.array([info.strain_max]),
                                       converged=np.array([info.converged])))
     attrs = dict(empty_volume=full.scale.empty_volume, full_volume=full.scale.full_volume,
+                 full_tank_fraction=full.scale.full_volume / tank_volume(setup.model.radius),
                  mirrored_volume=full.mirrored_volume, full_pressure_level=info.pressure_level,
                  full_height=setup.liquid.equivalent_height(info.pressure_level))
     return groups, attrs
 
 
+SWEEP_COLUMNS = (
+    ("tank_fraction", "tank fraction", "1", "{:.4f}"),
+    ("inversion_fraction", "inversion fraction", "1", "{:.4f}"),
+    ("liquid_volume", "liquid volume", "m^3", "{:.6e}"),
+    ("pressure_level", "level p_ref", "Pa", "{:.1f}"),
+    ("strain_error", "strain (mean)", "1", "{:.5f}"),
+    ("strain_max", "strain (max)", "1", "{:.5f}"),
+    ("relaxation_steps", "steps", "1", "{:.0f}"),
+    ("wall_seconds", "wall", "s", "{:.2f}"),
+)
+"""The columns of the static table: dataset, header, unit, format (``inversion_fraction``
+only where the run reproduces App. J)."""
+
+SWEEP_NOTES = (
+    "tank fraction: V / (4/3 pi R^3), the liquid's share of the tank",
+    "inversion fraction: the thesis's App. J scale, 0 at the rest shape, 1 at the full "
+    "inversion",
+    "liquid volume: below the sheet",
+    "level p_ref: the liquid's pressure at the tank centre over the gas's, the volume's "
+    "multiplier (negative: below the gas's; the sheet's tension carries the difference)",
+    "strain: the in-plane springs' |L - L0| / L0, mean (the thesis's error) and largest "
+    "(the thesis's measure)",
+    "steps: the solver's pseudo-steps (the thesis ramp: the step index)",
+    "wall: the frame's solve time",
+)
+"""What the static table's columns mean, printed under it."""
+
+
+def columns_markdown() -> str:
+    """The static table's columns (:data:`SWEEP_COLUMNS`) and what they mean
+    (:data:`SWEEP_NOTES`), for the outputs page."""
+    notes = {n.split(":")[0]: n.split(":", 1)[1].strip() for n in SWEEP_NOTES}
+    rows = ["| column | unit | dataset | meaning |", "|---|---|---|---|"]
+    for key, head, unit, _ in SWEEP_COLUMNS:
+        meaning = notes.get(head, notes["strain"] if head.startswith("strain") else "")
+        rows.append(f"| {head} | {unit} | `{key}` | {meaning.replace('|', chr(92) + '|')} |")
+    return "\n".join(rows)
+
+
 def report_sweep(result) -> None:
-    """The fill table ``fsi run`` prints after a static procedure."""
+    """The fill table ``fsi run`` prints after a static procedure (:data:`SWEEP_COLUMNS`)."""
     a = result.attrs
-    print(f"100 % fill = fully inverted equilibrium at h = {a['full_height']:.4f} m: "
-          f"{a['full_volume']:.6e} m^3 = {a['full_volume'] / a['mirrored_volume']:.4f} of the "
-          f"mirrored rest shape")
+    print(f"full inversion (inversion fraction 1): tank fraction "
+          f"{a['full_tank_fraction']:.4f}, "
+          f"{a['full_volume'] / a['mirrored_volume']:.4f} of the mirrored rest shape, under an "
+          f"equivalent liquid height of {a['full_height']:.4f} m (sweep.full_height x R)")
     for name in ("frames", "drain"):
         if name not in result.groups:
             continue
         g = result.groups[name]
-        print(f"[{name}]  target   fill    tank    volume(m^3)   h(m)     strain  max-strain  "
-              f"steps  s   (fill on the {a.get('fill_scale', 'full-inversion')} scale; tank: "
-              f"V / (4/3 pi R^3))")
-        for k in range(len(g["fill_fraction"])):
-            print(f"  {g['target_fill_fraction'][k]:8.3f} {g['fill_fraction'][k]:7.4f} "
-                  f"{g['tank_fraction'][k]:7.4f} "
-                  f"{g['liquid_volume'][k]:12.6e} {g['equivalent_height'][k]:8.4f} "
-                  f"{g['strain_error'][k]:8.5f} {g['strain_max'][k]:8.5f} "
-                  f"{int(g['relaxation_steps'][k]):6d} {g['wall_seconds'][k]:6.2f}")
+        columns = [c for c in SWEEP_COLUMNS if c[0] in g]
+        rows = [[fmt.format(float(g[key][k]) + 0.0) if np.isfinite(g[key][k]) else "-"
+                 for key, _, _, fmt in columns] for k in range(len(g["tank_fraction"]))]
+        print(f"[{'filling' if name == 'frames' else 'draining'}]")
+        print(format_table([(head, unit) for _, head, unit, _ in columns], rows))
+    shown = {c[1] for c in SWEEP_COLUMNS if any(c[0] in result.groups.get(n, {})
+                                                  for n in ("frames", "drain"))}
+    for note in SWEEP_NOTES:
+        if note.split(":")[0] in shown or note.startswith("strain"):
+            print(f"  {note}")
+
+
+
+def format_table(headers, rows) -> str:  # replaced by the shared table formatter
+    cells = [[f"{h} ({u})" for h, u in headers]] + rows
+    width = [max(len(r[i]) for r in cells) for i in range(len(headers))]
+    return "\n".join("  " + "  ".join(c.rjust(w) for c, w in zip(r, width)) for r in cells)

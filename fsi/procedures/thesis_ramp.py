@@ -5,9 +5,10 @@ over ``end_time``, updated before each step, and the thesis stepper
 (:func:`structure.thesis.step`) advances the membrane under p = rho |b| h + rho b . x at
 ``thesis.dt``; frames are recorded every ``frame_interval`` steps (group ``history``). Then, as
 App. J does, for each fill in ``sweep.fills`` the recorded frame whose volume is nearest
-fill x (volume of the last frame) is picked (group ``frames``). ``frames/fill_fraction`` is
-the fill on this project's scale (:mod:`fsi.setup.fill`); ``frames/target_fill_fraction`` the App. J
-target.
+fill x (volume of the last frame) is picked (group ``frames``). Every frame carries its tank
+fraction and, beside it, ``inversion_fraction``, the fill on this project's full-inversion
+scale (:mod:`fsi.setup.fill`); ``frames/target_fill`` is the App. J target (on the ramp's
+last-frame scale).
 """
 from __future__ import annotations
 
@@ -85,8 +86,8 @@ def thesis_ramp(setup, progress: Progress) -> RunResult:
                         settings)
         if run.frame_due(k):
             run.record("history", dict(
-                static_frame(setup, full.scale, state.node_position, level, np.nan,
-                             run.elapsed(), k, True),
+                static_frame(setup, state.node_position, level, np.nan, run.elapsed(), k,
+                             True, full.scale),
                 time=k * th["dt"],
                 node_speed_max=float(np.linalg.norm(state.node_velocity, axis=1).max())))
             run.progress(k, f"t = {k * th['dt']:.3f} s, h = {h:+.4f} m")
@@ -103,13 +104,13 @@ def thesis_ramp(setup, progress: Progress) -> RunResult:
 
 def pick_by_volume(history: dict, fills) -> dict:
     """App. J: for each fill, the frame of ``history`` whose liquid volume is nearest
-    fill x (the last frame's volume), with ``target_fill_fraction`` = fill."""
+    fill x (the last frame's volume), with ``target_fill`` = fill."""
     final_volume = history["liquid_volume"][-1]
     picked = []
     for fill in fills:
         i = int(np.argmin(np.abs(history["liquid_volume"] - fill * final_volume)))
         picked.append(dict({k: v[i] for k, v in history.items()},
-                           target_fill_fraction=float(fill)))
+                           target_fill=float(fill)))
     return stack(picked)
 
 

@@ -2,8 +2,8 @@
 
 For each fill phi of ``sweep.fills`` in order, the membrane's equilibrium holding the liquid
 volume V(phi) on ``sweep.scale`` (the tank fraction: V = phi (4/3) pi R^3; the thesis's
-full-inversion scale: V = V_empty + phi (V_full - V_empty), :mod:`fsi.setup.fill`) under the
-hydrostatic load
+full-inversion scale: V = V_empty + phi (V_full - V_empty), :mod:`fsi.setup.fill`; its frames
+then carry their ``inversion_fraction`` beside the tank fraction) under the hydrostatic load
 p = p_ref + rho b . x, the level p_ref its Lagrange multiplier, by the scene's structure model
 (:mod:`fsi.setup.models`); each fill starts from the previous equilibrium (continuation). With
 ``sweep.drain`` the same fills are then run back down (group ``drain``).
@@ -34,6 +34,7 @@ def volume_sweep(setup, progress: Progress) -> RunResult:
     fills = list(setup.scene["sweep"]["fills"])
     full = full_inversion(setup)
     scale = FILL_SCALES[setup.scene["sweep"]["scale"]](setup, full)
+    inversion = full.scale if setup.scene["sweep"]["scale"] == "full-inversion" else None
     check_reachable(full, scale, fills, "sweep.fills")
     legs = [("frames", fills)] + ([("drain", fills[::-1])] if setup.scene["sweep"]["drain"]
                                   else [])
@@ -54,9 +55,9 @@ def volume_sweep(setup, progress: Progress) -> RunResult:
             if not info.converged:
                 log.warning("%s fill %.3f: %s model not converged after %d steps", group, fill,
                             setup.structure_model, info.steps)
-            run.record(group, static_frame(setup, scale, state.node_position,
-                                           info.pressure_level, fill, seconds, info.steps,
-                                           info.converged))
+            run.record(group, static_frame(setup, state.node_position, info.pressure_level,
+                                           fill, seconds, info.steps, info.converged,
+                                           inversion))
             done += 1
             run.progress(done, f"{group} fill {fill:.2f}")
     return run.result(groups, **attrs, structure_model=setup.structure_model,

@@ -116,15 +116,15 @@ def collect(sweep: Sweep, out) -> "xarray.Dataset":
 
 def fill_variables(sweep: Sweep, results: dict) -> tuple:
     """(the requested fills, {fill_NAME: (dims, values, attrs)}) of the cases in ``results``
-    ({case name: read_result}) that record ``frames/target_fill_fraction``; (None, {}) when
+    ({case name: read_result}) that record ``frames/target_fill``; (None, {}) when
     none does. Dimensions ``("fill", *axes)``, NaN where a case has no frame at a fill."""
     framed = {n: r["frames"] for n, r in results.items()
-              if "target_fill_fraction" in r.get("frames", {})}
+              if "target_fill" in r.get("frames", {})}
     if not framed:
         return None, {}
     # a frame recorded between requested fills (a coupled run's periodic frames) has none: NaN
     fills = sorted({round(float(f), 12) for fr in framed.values()
-                    for f in fr["target_fill_fraction"] if np.isfinite(f)})
+                    for f in fr["target_fill"] if np.isfinite(f)})
     if not fills:
         return None, {}
     dims = ["fill"] + [a.name for a in sweep.axes]
@@ -132,7 +132,7 @@ def fill_variables(sweep: Sweep, results: dict) -> tuple:
     values = {n: np.full((len(fills),) + sweep.shape, np.nan) for n in names}
     for case in (c for c in sweep.cases if c.name in framed):
         frames = framed[case.name]
-        for k, target in enumerate(frames["target_fill_fraction"]):
+        for k, target in enumerate(frames["target_fill"]):
             if not np.isfinite(target):
                 continue
             i = fills.index(round(float(target), 12))
