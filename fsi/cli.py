@@ -1,15 +1,7 @@
-"""Command line: ``fsi run``, ``fsi sweep``, ``fsi compare``, ``fsi advise``, ``fsi show``,
-``fsi scenes``.
-
-    fsi run <bundled scene | scene.toml> --out DIR [--no-plots]
-    fsi sweep <bundled sweep | sweep.toml> --out DIR [--workers N | --scheduler ADDRESS]
-    fsi compare A B [--fill F] [--obj-scale S]
-    fsi advise <bundled scene | scene.toml> [--accuracy PERCENT]
-    fsi show DIR
-    fsi scenes [NAME] [--reference]
-    fsi sweeps [NAME]
-    fsi --version
-"""
+"""The command line, ``fsi``: :func:`main` parses the arguments and runs a subcommand
+(``run``, ``sweep``, ``compare``, ``advise``, ``show``, ``scenes``, ``sweeps``); its help is
+:data:`DESCRIPTION`, the exit statuses (:data:`RUN_EXIT`, :data:`SWEEP_EXIT`) and each
+subcommand's description."""
 from __future__ import annotations
 
 import argparse
@@ -19,30 +11,39 @@ import sys
 import numpy as np
 
 from fsi.run_job import (EXIT_NOT_CONVERGED, ProgressBar, UsageError, guarded,  # noqa: F401
-                         not_converged, run as cmd_run)
+                         not_converged, on_terminal, run as cmd_run)
+from fsi.text import format_table
 
 log = logging.getLogger("fsi")
 
 
 class SweepBar:
-    """A sweep's progress on stderr: cases done of those to run, ETA (tqdm), failures, and a
-    line per case as it finishes."""
+    """A sweep's progress on stderr: a line per case as it finishes, and cases done of those
+    to run, ETA and failures: on a terminal a tqdm bar below the lines, elsewhere (a file, a
+    pipe) in each line, so that no line is shared with a bar."""
 
     def __init__(self, label: str):
-        self.label, self.bar, self.failed = label, None, 0
+        self.label, self.bar, self.failed, self.count, self.total = label, None, 0, 0, 0
 
     def start(self, total: int, skipped: int) -> None:
         from tqdm import tqdm
 
         if skipped:
             print(f"{self.label}: {skipped} cases finished before, skipped", file=sys.stderr)
-        self.bar = tqdm(total=total, desc=self.label, unit="case", file=sys.stderr)
+        self.total = total
+        if on_terminal(sys.stderr):
+            self.bar = tqdm(total=total, desc=self.label, unit="case", file=sys.stderr)
 
     def done(self, case, record: dict) -> None:
         self.failed += record["status"] in (1, 2) or record["status"] < 0
-        self.bar.write(f"  {case.name}: exit {record['status']}, {record['seconds']:.1f} s"
-                       + (f" ({record['reason']})" if record["reason"] else ""),
-                       file=sys.stderr)
+        self.count += 1
+        line = (f"  {case.name}: exit {record['status']}, {record['seconds']:.1f} s"
+                + (f" ({record['reason']})" if record["reason"] else ""))
+        if self.bar is None:
+            print(f"{line} [{self.count} of {self.total} done, {self.failed} failed]",
+                  file=sys.stderr, flush=True)
+            return
+        self.bar.write(line, file=sys.stderr)
         self.bar.set_postfix_str(f"{self.failed} failed", refresh=False)
         self.bar.update(1)
 
@@ -172,42 +173,58 @@ def read_obj(path):
 
 
 def cmd_compare(args) -> int:
-    from fsi.analysis.compare import eqn_6_1_error
-
     a = read_run(args.a)
     if "frames" not in a or "node_position" not in a["frames"]:
         raise UsageError(f"'{args.a}' has no membrane frames to compare")
-    radius = float(a["attrs"]["radius"])
-    frames = a["frames"]
     pick = _pick_frames(a, args.fill, args.scale, str(args.a))
     if str(args.b).lower().endswith(".obj"):
-        if not args.obj_scale > 0:
-            raise UsageError(f"--obj-scale {args.obj_scale}: a scale from .obj units to m is "
-                             f"> 0")
-        points, faces = read_obj(args.b)
-        points = points * args.obj_scale
-        check_obj_size(points, radius, args.b)
-        print("tank A   Eqn 6.1 error (%)  vs " + str(args.b))
-        for k in pick:
-            e = eqn_6_1_error(points, faces, frames["node_position"][k], radius)
-            print(f"{frames['tank_fraction'][k]:6.3f}  {e:10.4f}")
-        return 0
+        return compare_with_surface(a, pick, args)
+    return compare_with_result(a, pick, args)
+
+
+def compare_with_surface(a: dict, pick: list[int], args) -> int:
+    """``fsi compare A B.obj``: a table of A's tank fraction and the Eqn 6.1 error of its
+    frame against the surface, scaled to m by --obj-scale."""
+    from fsi.analysis.compare import eqn_6_1_error
+
+    if not args.obj_scale > 0:
+        raise UsageError(f"--obj-scale {args.obj_scale}: a scale from .obj units to m is > 0")
+    radius, frames = float(a["attrs"]["radius"]), a["frames"]
+    points, faces = read_obj(args.b)
+    points = points * args.obj_scale
+    check_obj_size(points, radius, args.b)
+    print(f"compare: A '{args.a}', B the surface '{args.b}' (x {args.obj_scale:g} to m)",
+          file=sys.stderr)
+    rows = [(frames["tank_fraction"][k],
+             eqn_6_1_error(points, faces, frames["node_position"][k], radius)) for k in pick]
+    print(format_table([("tank A", "-"), ("Eqn 6.1 error", "%")], rows, [".3f", ".4f"]))
+    return 0
+
+
+def compare_with_result(a: dict, pick: list[int], args) -> int:
+    """``fsi compare A B``: a table of each picked frame of A, B's frame nearest it in tank
+    fraction and the Eqn 6.1 error between them; a pair further apart than
+    PAIRING_TOLERANCE is marked '*' and explained below the table."""
+    from fsi.analysis.compare import eqn_6_1_error
+
     b = read_run(args.b)
     if "frames" not in b or "node_position" not in b["frames"]:
         raise UsageError(f"'{args.b}' has no membrane frames to compare")
-    faces = b["membrane"]["face_nodes"]
-    b_tank = b["frames"]["tank_fraction"]
-    print("tank A  tank B   Eqn 6.1 error (%)   (B's frame nearest in tank fraction "
-          "V / (4/3 pi R^3))")
-    flagged = False
+    radius, frames = float(a["attrs"]["radius"]), a["frames"]
+    faces, b_tank = b["membrane"]["face_nodes"], b["frames"]["tank_fraction"]
+    print("compare: B's frame nearest A's in tank fraction V / (4/3 pi R^3)", file=sys.stderr)
+    rows = []
     for k in pick:
         j = int(np.argmin(np.abs(b_tank - frames["tank_fraction"][k])))
         e = eqn_6_1_error(b["frames"]["node_position"][j], faces, frames["node_position"][k],
                           radius)
         far = abs(b_tank[j] - frames["tank_fraction"][k]) > PAIRING_TOLERANCE
-        flagged |= far
-        print(f"{frames['tank_fraction'][k]:6.3f}  {b_tank[j]:6.3f}  {e:10.4f}"
-              + ("  *" if far else ""))
+        rows.append((frames["tank_fraction"][k], b_tank[j], e, "*" if far else None))
+    flagged = any(row[-1] for row in rows)
+    columns = [("tank A", "-"), ("tank B", "-"), ("Eqn 6.1 error", "%"), ("", "")]
+    if not flagged:  # no mark column
+        columns, rows = columns[:-1], [row[:-1] for row in rows]
+    print(format_table(columns, rows, [".3f", ".3f", ".4f", ""][:len(columns)]))
     if flagged:
         print(f"* B has no frame within {PAIRING_TOLERANCE} of A's tank fraction: the shapes "
               f"hold different volumes")
@@ -223,9 +240,17 @@ def cmd_scenes(args) -> int:
     if args.reference:
         print(reference_markdown())
         return 0
-    for name in bundled_scenes():
-        print(f"{name:16s} {load_scene(name)['scene']['description']}")
+    print_listing([(name, load_scene(name)["scene"]["description"])
+                   for name in bundled_scenes()])
     return 0
+
+
+def print_listing(rows: list[tuple[str, str]]) -> None:
+    """Names and descriptions in two columns, the names padded to the longest, each
+    description wrapped to the terminal's width with a hanging indent."""
+    import shutil
+
+    print(format_table(None, rows, ["", ""], width=shutil.get_terminal_size().columns))
 
 
 def cmd_sweeps(args) -> int:
@@ -236,19 +261,23 @@ def cmd_sweeps(args) -> int:
     if args.name:
         print(bundled_sweep_text(args.name), end="")
         return 0
-    for name in bundled_sweeps():
-        head = tomllib.loads(bundled_sweep_text(name)).get("sweep", {})
-        print(f"{name:16s} {head.get('description', '')} (scene {head.get('scene')})")
+    heads = {name: tomllib.loads(bundled_sweep_text(name)).get("sweep", {})
+             for name in bundled_sweeps()}
+    print_listing([(name, f"{head.get('description', '')} (scene {head.get('scene')})")
+                   for name, head in heads.items()])
     return 0
 
 
 def cmd_advise(args) -> int:
-    from fsi.analysis.regime import advise_scene, load_table
+    from fsi.analysis.regime import advise_scene, load_table, work_note
     from fsi.scene import load_scene
 
     if not args.accuracy > 0:
         raise UsageError(f"--accuracy {args.accuracy}: an accuracy is > 0 (% Eqn 6.1)")
     scene = load_scene(args.scene)
+    note = work_note(scene)
+    if note:  # said before the wait
+        print(f"{scene.name}: {note}...", file=sys.stderr, flush=True)
     model, reasons = advise_scene(scene, args.accuracy, load_table())
     print(f"{scene['scene']['name']}: {model} model")
     for line in reasons:
@@ -285,11 +314,68 @@ def cmd_show(args) -> int:
     return 0
 
 
-def _run_parsers(sub) -> None:
-    """The ``run`` and ``sweep`` subcommands."""
-    p = sub.add_parser("run", help="run a scene and write results and plots")
+DESCRIPTION = """\
+Fluid-structure interaction of a propellant tank's slosh diaphragm: run a scene, or a sweep of \
+scenes, into a results folder, then compare and summarise the results.
+
+  fsi run SCENE --out DIR     run a bundled scene, or a scene file, into DIR
+  fsi sweep SWEEP --out DIR   run the cases of a sweep on Dask into one dataset
+  fsi compare A B             the Eqn 6.1 shape error per fill of two results
+  fsi advise SCENE            which model a scene needs, and the numbers why
+  fsi show DIR                summarise a result
+  fsi scenes [NAME]           list the bundled scenes, or print one to copy
+  fsi sweeps [NAME]           list the bundled sweeps, or print one to copy
+
+'fsi COMMAND --help' describes a command and its options."""
+"""What ``fsi --help`` says above the options."""
+
+RUN_EXIT = """\
+exit status of fsi run:
+  0        done, everything converged
+  1        stopped early (the work done is written), or could not start
+  2        bad input: one line on stderr, nothing computed
+  3        finished and written, but something did not converge
+  130/143  interrupted by SIGINT/SIGTERM (the work done is written)"""
+"""What ``fsi --help`` and ``fsi run --help`` say below the options."""
+
+SWEEP_EXIT = """\
+exit status of fsi sweep:
+  0        every case done, everything converged
+  1        a case failed (the others are written)
+  2        bad input: one line on stderr, nothing computed
+  3        every case written, but something did not converge in some"""
+
+OTHER_EXIT = "The other commands exit 0 when done and 2 on bad input."
+
+
+class HelpFormatter(argparse.HelpFormatter):
+    """argparse's help formatter, but a paragraph of a description or an epilog with an
+    indented line (a list: the commands, the exit statuses) is kept as written; the other
+    paragraphs are filled to the terminal's width as usual."""
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        fill = super()._fill_text
+        return "\n\n".join(paragraph if is_list(paragraph) else fill(paragraph, width, indent)
+                           for paragraph in text.split("\n\n"))
+
+
+def is_list(paragraph: str) -> bool:
+    """Whether a paragraph of help text has an indented line (a list, kept as written)."""
+    return any(line.startswith(" ") for line in paragraph.splitlines())
+
+
+def _command(sub, name: str, description: str, epilog: str = None):
+    """A subcommand's parser: its description (whole sentences) and epilog."""
+    return sub.add_parser(name, description=description, epilog=epilog,
+                          formatter_class=HelpFormatter)
+
+
+def _run_parser(sub) -> None:
+    p = _command(sub, "run", "Run a scene, bundled or a .toml file, into the results folder "
+                 "DIR: result.h5, the frames for ParaView and the plots. The scene and DIR "
+                 "are checked before anything is computed or written.", RUN_EXIT)
     p.add_argument("scene", help="bundled scene name or path to a .toml scene file")
-    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--out", metavar="DIR", required=True, help="output folder")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("--overwrite", action="store_true",
                    help="replace an existing results folder whole")
@@ -297,13 +383,19 @@ def _run_parsers(sub) -> None:
                    help="continue a stopped run from its last checkpoint "
                         "(dynamics.checkpoint_interval)")
     p.set_defaults(func=cmd_run)
-    p = sub.add_parser("sweep", help="run many cases of a scene on Dask, one dataset")
+
+
+def _sweep_parser(sub) -> None:
+    p = _command(sub, "sweep", "Run every case of a sweep, bundled or a .toml file, on a Dask "
+                 "cluster, and gather their results into one dataset, DIR/sweep.nc.",
+                 SWEEP_EXIT)
     p.add_argument("sweep", help="bundled sweep name or path to a sweep .toml file")
-    p.add_argument("--out", required=True, help="output folder of the sweep")
-    p.add_argument("--workers", type=int,
+    p.add_argument("--out", metavar="DIR", required=True, help="output folder of the sweep")
+    p.add_argument("--workers", metavar="N", type=int,
                    help="worker processes of the local cluster (default: one per core)")
-    p.add_argument("--scheduler", help="address of an existing Dask scheduler to use "
-                                       "(its workers must see --out)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="address of an existing Dask scheduler to use (its workers must see "
+                        "--out)")
     p.add_argument("--resume", action="store_true",
                    help="continue a sweep in --out: finished cases are skipped")
     p.add_argument("--overwrite", action="store_true",
@@ -312,53 +404,72 @@ def _run_parsers(sub) -> None:
     p.set_defaults(func=cmd_sweep)
 
 
-def _result_parsers(sub) -> None:
-    """The ``compare``, ``advise``, ``scenes``, ``sweeps`` and ``show`` subcommands."""
-    p = sub.add_parser("compare", help="Eqn 6.1 error per fill between two results, "
-                                       "or a result and a Wavefront .obj surface")
+def _compare_parser(sub) -> None:
+    p = _command(sub, "compare", "Compare membrane shapes by the thesis's Eqn 6.1 error, frame "
+                 "by frame: two results (B's frame nearest each of A's in tank fraction), or "
+                 "a result and a Wavefront .obj surface.")
     p.add_argument("a", help="result folder or result.h5 (compared)")
     p.add_argument("b", help="result folder / result.h5, or .obj surface (reference)")
-    p.add_argument("--fill", type=float,
+    p.add_argument("--fill", metavar="F", type=float,
                    help="compare only A's frame nearest this fill, in [0, 1], on --scale")
     p.add_argument("--scale", choices=("tank", "full-inversion"), default="tank",
                    help="scale of --fill: tank fraction V / (4/3 pi R^3) (default) or the "
                         "thesis's full-inversion scale (static results)")
-    p.add_argument("--obj-scale", type=float, default=1.0,
+    p.add_argument("--obj-scale", metavar="S", type=float, default=1.0,
                    help="factor from .obj units to m (default 1)")
     p.set_defaults(func=cmd_compare)
-    p = sub.add_parser("advise", help="which model a scene needs for a stated accuracy, and "
-                                      "why (the numbers it used)")
+
+
+def _advise_parser(sub) -> None:
+    p = _command(sub, "advise", "Say which model a scene needs for a stated accuracy, and "
+                 "print every number used. A fill or drain through the port is placed on "
+                 "the measured regime map (its slosh period computed first, which takes "
+                 "a moment); other procedures have a fixed answer.")
     p.add_argument("scene", help="bundled scene name or path to a .toml scene file")
-    p.add_argument("--accuracy", type=float, default=1.0,
+    p.add_argument("--accuracy", metavar="PERCENT", type=float, default=1.0,
                    help="largest acceptable shape difference from the coupled model, "
-                        "% Eqn 6.1 (default 1)")
+                        "%% Eqn 6.1 (default 1)")
     p.set_defaults(func=cmd_advise)
-    p = sub.add_parser("scenes", help="list bundled scenes, or print one to copy")
+
+
+def _listing_parsers(sub) -> None:
+    p = _command(sub, "scenes", "List the bundled scenes, print one (its TOML, to copy and "
+                 "edit), or print the reference of every scene key.")
     p.add_argument("name", nargs="?", help="print this bundled scene's TOML")
     p.add_argument("--reference", action="store_true", help="print the scene key reference")
     p.set_defaults(func=cmd_scenes)
-    p = sub.add_parser("sweeps", help="list bundled sweeps, or print one to copy")
+    p = _command(sub, "sweeps", "List the bundled sweeps, or print one (its TOML, to copy and "
+                 "edit).")
     p.add_argument("name", nargs="?", help="print this bundled sweep's TOML")
     p.set_defaults(func=cmd_sweeps)
-    p = sub.add_parser("show", help="summarise a result: scene, procedure, records, the "
-                                    "diaphragm's peak stress, events and cycles, "
-                                    "convergence, failure, version")
+    p = _command(sub, "show", "Summarise a result: its scene and procedure, records, the "
+                 "diaphragm's peak stress, events and stress cycles, convergence, failure "
+                 "and the version that wrote it.")
     p.add_argument("run", help="result folder or result.h5")
     p.set_defaults(func=cmd_show)
 
 
-def main(argv=None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of ``fsi``: its options and every subcommand's."""
     from fsi.io.output import software_version
 
-    parser = argparse.ArgumentParser(prog="fsi", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="fsi", description=DESCRIPTION,
+                                     epilog="\n\n".join((RUN_EXIT, SWEEP_EXIT, OTHER_EXIT)),
+                                     formatter_class=HelpFormatter)
     parser.add_argument("--version", action="version",
                         version=f"slosh-fsi {software_version()}")
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="show the libraries' INFO messages too (FiPy's)")
-    sub = parser.add_subparsers(dest="command", required=True)
-    _run_parsers(sub)
-    _result_parsers(sub)
-    args = parser.parse_args(argv)
+    sub = parser.add_subparsers(dest="command", required=True, title="commands",
+                                metavar="COMMAND", help="one of those listed above")
+    for add in (_run_parser, _sweep_parser, _compare_parser, _advise_parser,
+                _listing_parsers):
+        add(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
     logging.getLogger("fsi").setLevel(logging.INFO)

@@ -38,18 +38,45 @@ class UsageError(Exception):
 
 
 
-class ProgressBar:
-    """Progress with ETA on stderr (tqdm), driven by fraction done. The ETA is the rate since
-    the first work reported, so a long setup (a static start) does not inflate it."""
+BAR_FORMAT = "{desc}: {percentage:3.0f}%|{bar}| {elapsed}{postfix}"
+"""What the progress says: 'label:  25%|██▌       | 00:04, ETA 00:12, message'."""
+LINE_SECONDS = 30.0
+"""Off a terminal (a file, a pipe, a CI log), where a bar cannot be redrawn in place, the
+progress is a line of its own at most this often, and at the start and the end (s)."""
+BAR_SECONDS = 0.5
+"""On a terminal the bar is redrawn at most this often (s)."""
 
-    def __init__(self, label: str):
+
+def on_terminal(stream) -> bool:
+    """Whether ``stream`` is a terminal, where a bar can be redrawn in place."""
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):  # no isatty, or closed
+        return False
+
+
+class ProgressBar:
+    """Progress with ETA on stderr, driven by fraction done. On a terminal a tqdm bar redrawn
+    in place (:func:`progress_shown` writes the log records above it); anywhere else the same
+    text as whole lines, every :data:`LINE_SECONDS`, so that no other line shares one with
+    it. The ETA is the rate since the first work reported, so a long setup (a static start)
+    does not inflate it."""
+
+    def __init__(self, label: str, stream=None):
+        self.stream = sys.stderr if stream is None else stream
+        self.label, self.live = label, on_terminal(self.stream)
+        self.started = self.last = time.monotonic()
+        self.first = None  # (time, fraction) of the first report with work done
+        self.finished = False
+        self.bar = self._tqdm() if self.live else None
+        if not self.live:
+            self.write_line(0.0, "", self.started)
+
+    def _tqdm(self):
         from tqdm import tqdm
 
-        self.bar = tqdm(total=1000, desc=label, unit="‰", file=sys.stderr,
-                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}{postfix}",
-                        mininterval=0.5)
-        self.last = -1e9
-        self.first = None  # (time, fraction) of the first report with work done
+        return tqdm(total=1000, desc=self.label, unit="‰", file=self.stream,
+                    bar_format=BAR_FORMAT, mininterval=BAR_SECONDS)
 
     def eta(self, now: float, fraction: float) -> str:
         """'ETA h:mm:ss' from the rate since the first report with work done, or '' before
@@ -68,15 +95,76 @@ class ProgressBar:
     def __call__(self, fraction: float, message: str) -> None:
         now = time.monotonic()
         eta = self.eta(now, fraction)
-        if fraction < 1.0 and now - self.last < 0.5:
+        interval = BAR_SECONDS if self.live else LINE_SECONDS
+        if (fraction < 1.0 and now - self.last < interval) or self.finished:
             return
-        self.last = now
-        self.bar.n = int(1000 * fraction)
-        self.bar.set_postfix_str(f"{eta}, {message}" if eta else message, refresh=False)
-        self.bar.refresh()
+        self.last, self.finished = now, fraction >= 1.0 and not self.live
+        postfix = f"{eta}, {message}" if eta else message
+        if self.live:
+            self.bar.n = int(1000 * fraction)
+            self.bar.set_postfix_str(postfix, refresh=False)
+            self.bar.refresh()
+        else:
+            self.write_line(fraction, postfix, now)
+
+    def write_line(self, fraction: float, postfix: str, now: float) -> None:
+        """The progress as a line of its own (off a terminal)."""
+        from tqdm import tqdm
+
+        print(tqdm.format_meter(int(1000 * fraction), 1000, now - self.started,
+                                prefix=self.label, bar_format=BAR_FORMAT, postfix=postfix,
+                                unit="‰"), file=self.stream, flush=True)
 
     def close(self):
-        self.bar.close()
+        if self.bar is not None:
+            self.bar.close()
+
+
+@contextlib.contextmanager
+def progress_shown(label: str):
+    """A :class:`ProgressBar` of ``label`` while inside, closed on leaving. On a terminal,
+    where the bar is redrawn in place, the log records and warnings meanwhile are
+    written above it (:func:`logs_above_bar`), each on a line of its own; off a terminal the
+    bar's lines are whole lines already."""
+    bar = ProgressBar(label)
+    try:
+        with logs_above_bar() if bar.live else contextlib.nullcontext():
+            yield bar
+    finally:
+        bar.close()
+
+
+@contextlib.contextmanager
+def logs_above_bar():
+    """While inside: every logger writing to stdout or stderr (:func:`console_loggers`)
+    writes through tqdm, which clears the bar, writes the line and redraws the bar below it;
+    Python's warnings go to the log (logger 'py.warnings') rather than straight to stderr."""
+    import warnings
+
+    from tqdm.contrib.logging import logging_redirect_tqdm
+
+    def to_log(message, category, filename, lineno, file=None, line=None):
+        logging.getLogger("py.warnings").warning(
+            "%s", warnings.formatwarning(message, category, filename, lineno, "").rstrip())
+
+    shown, warnings.showwarning = warnings.showwarning, to_log
+    try:
+        with logging_redirect_tqdm(loggers=console_loggers()):
+            yield
+    finally:
+        warnings.showwarning = shown
+
+
+def console_loggers() -> list[logging.Logger]:
+    """The root logger, and every other logger with a handler of its own writing to stdout
+    or stderr (one that does not only pass its records on to the root's)."""
+    def console(handler) -> bool:
+        return isinstance(handler, logging.StreamHandler) and \
+            handler.stream in (sys.stdout, sys.stderr)
+
+    others = [logger for logger in logging.root.manager.loggerDict.values()
+              if isinstance(logger, logging.Logger) and any(map(console, logger.handlers))]
+    return [logging.root, *others]
 
 
 def prepare(args):
@@ -120,8 +208,6 @@ def annotate_result(setup, result) -> None:
 def run(args) -> int:
     """``fsi run`` with the parsed ``args`` (scene, out, no_plots, overwrite, resume);
     returns the exit status (module doc)."""
-    from tqdm.contrib.logging import logging_redirect_tqdm
-
     from fsi.io.checkpoint import CHECKPOINT_FILE
     from fsi.io.output import write_result
     from fsi.io.plots import make_plots
@@ -129,19 +215,15 @@ def run(args) -> int:
 
     folder, scene, setup = prepare(args)
     procedure = setup.procedure
-    bar = ProgressBar(scene.name)
     t0 = time.perf_counter()
     try:
-        with stop_on_signals(), logging_redirect_tqdm():  # logs on lines of their own
+        with stop_on_signals(), progress_shown(scene.name) as bar:  # logs on lines of their own
             result = procedure(setup, bar)
     except StartFailure as err:
-        bar.close()
         folder.discard()
         print(f"fsi: error: the run could not start: {err}; nothing was written",
               file=sys.stderr)
         return 1
-    finally:
-        bar.close()
     result.attrs["run_seconds"] = time.perf_counter() - t0
     annotate_result(setup, result)
     write_result(folder.stage(), scene, setup.model, result)

@@ -25,6 +25,7 @@ from fsi import procedures  # noqa: F401  (fills the registry)
 from fsi.setup.models import STRUCTURE_MODELS
 from fsi.registry import (PROCEDURES, Key, SceneError, Table, check_sn_curve, is_vec3, one_of,
                           positive)
+from fsi.text import closest, unknown_name
 
 __all__ = ["SCHEMA", "Scene", "SceneError", "bundled_scenes", "load_scene", "parse_scene",
            "reference_markdown"]
@@ -166,18 +167,53 @@ class Scene:
         source's."""
         values = {section: dict(keys) for section, keys in self.values.items()}
         for section, keys in changes.items():
-            if section not in SCHEMA:
-                raise SceneError(f"unknown scene section '[{section}]'; allowed: "
-                                 f"{', '.join(SCHEMA)}")
+            check_known(section, keys)
             for name, value in keys.items():
-                if name not in SCHEMA[section]:
-                    raise SceneError(f"unknown scene key '{section}.{name}'; allowed in "
-                                     f"[{section}]: {', '.join(SCHEMA[section])}")
                 values[section][name] = _coerce(f"{section}.{name}", SCHEMA[section][name],
                                                 value)
             SCHEMA[section].check(values[section])
         _check_procedure(values)
         return replace(self, values=values)
+
+
+def check_known(section: str, names) -> None:
+    """:class:`SceneError` for a table ``[section]`` or a key of ``names`` in it that the
+    schema does not know, naming it, the closest known name and the names allowed."""
+    if section not in SCHEMA:
+        raise SceneError(f"unknown scene section '[{section}]'"
+                         + _hint(section_suggestion(section)) + f" allowed: {', '.join(SCHEMA)}")
+    for name in names:
+        if name not in SCHEMA[section]:
+            raise SceneError(f"unknown scene key '{section}.{name}'"
+                             + _hint(key_suggestion(section, name))
+                             + f" allowed in [{section}]: {', '.join(SCHEMA[section])}")
+
+
+def _hint(text: str) -> str:
+    """'; did you mean ...?' after a name, or ';' when there is no suggestion."""
+    return f"; {text}" if text else ";"
+
+
+def section_suggestion(section: str) -> str:
+    """"did you mean '[table]'?" for an unknown table: the closest table, else the table
+    holding a key of that name (a key written outside its table); '' when there is
+    neither."""
+    match = closest(section, SCHEMA)
+    if match:
+        return f"did you mean '[{match}]'?"
+    holders = [table for table, keys in SCHEMA.items() if section in keys]
+    return f"did you mean '{holders[0]}.{section}', under [{holders[0]}]?" if holders else ""
+
+
+def key_suggestion(section: str, name: str) -> str:
+    """"did you mean 'section.key'?" for an unknown key ``name`` of ``[section]``: the
+    closest key of that table, else the same key in another table; '' when there is
+    neither."""
+    match = closest(name, SCHEMA[section])
+    if match:
+        return f"did you mean '{section}.{match}'?"
+    elsewhere = [other for other, keys in SCHEMA.items() if name in keys]
+    return f"did you mean '{elsewhere[0]}.{name}'?" if elsewhere else ""
 
 
 def _coerce(path: str, key: Key, value):
@@ -201,15 +237,9 @@ def parse_scene(text: str, source: str = "<string>") -> Scene:
         raise SceneError(f"{source}: not valid TOML: {exc}") from None
     values: dict = {}
     for section, value in raw.items():
-        if section not in SCHEMA:
-            raise SceneError(f"unknown scene section '[{section}]'; allowed: "
-                             f"{', '.join(SCHEMA)}")
-        if not isinstance(value, dict):
+        if section in SCHEMA and not isinstance(value, dict):
             raise SceneError(f"scene key '{section}' must be a table [{section}]")
-        for name in value:
-            if name not in SCHEMA[section]:
-                raise SceneError(f"unknown scene key '{section}.{name}'; allowed in "
-                                 f"[{section}]: {', '.join(SCHEMA[section])}")
+        check_known(section, value)
     for section, keys in SCHEMA.items():
         given = raw.get(section, {})
         values[section] = {name: (_coerce(f"{section}.{name}", key, given[name])
@@ -261,8 +291,7 @@ def load_scene(name_or_path: str) -> Scene:
             raise SceneError(f"scene file '{path}' not found")
         return parse_scene(read_text(path), str(path))
     if name_or_path not in bundled_scenes():
-        raise SceneError(f"unknown scene '{name_or_path}': not a file, and not one of the bundled "
-                         f"scenes {bundled_scenes()}")
+        raise SceneError(unknown_name("scene", name_or_path, bundled_scenes(), "fsi scenes"))
     return parse_scene(bundled_text(name_or_path), f"bundled:{name_or_path}")
 
 
@@ -294,8 +323,7 @@ def tomllib_loads_anything(text: str) -> bool:
 def bundled_text(name: str) -> str:
     """The TOML text of bundled scene ``name``."""
     if name not in bundled_scenes():
-        raise SceneError(f"unknown scene '{name}': not one of the bundled scenes "
-                         f"{bundled_scenes()}")
+        raise SceneError(unknown_name("scene", name, bundled_scenes(), "fsi scenes"))
     return resources.files("fsi.scenes").joinpath(f"{name}.toml").read_text()
 
 

@@ -32,7 +32,7 @@ def test_a_run_with_an_unconverged_window_exits_3_and_keeps_its_result(tmp_path,
     assert "not everything converged: 2 of 3 frames, 2 of 2 windows" in err
     res = read_result(out)
     assert not res["windows"]["converged"].any()
-    assert fill_label(res["frames"], 1, "tank").endswith("NOT CONVERGED")
+    assert fill_label(res["frames"], 1).endswith("NOT CONVERGED")
     assert (out / "plots" / "coupling.png").is_file()
 
 

@@ -290,3 +290,20 @@ def test_stokes_layer_is_the_oscillating_walls_and_says_when_a_grid_misses_it():
     assert "scheme's" in _zeta_origin(dict(coarse, viscosity=0.0))
     assert "spans 2 cells" in _zeta_origin(dict(coarse, stokes_layer_cells=2.0))
     assert _zeta_origin({}) == ""
+
+
+def test_the_hemispherical_diaphragms_first_mode_is_labelled_its_grids():
+    """The bundled diaphragm slosh runs the folded hemisphere (shape, surface), whose first
+    mode is not converged in the membrane grid: its summary names the grid and the notes'
+    bracket, the tension field's 1.34 Hz below the finest grid's one-fold-state bound, which
+    falls with N (docs/notes/one-fold-state.md)."""
+    from fsi.scene import load_scene
+    from fsi.slosh.grid_bracket import FOLD_STATE_BOUND_HZ, TENSION_FIELD_HZ, grid_caveat
+
+    scene = load_scene("slosh-diaphragm")
+    assert scene["slosh"]["surface"] == "diaphragm" and scene["membrane"]["shape"] == "hemisphere"
+    text = grid_caveat(scene["membrane"]["grid_size"])
+    assert "N = 14 membrane grid's value, not converged" in text
+    assert "1.34 Hz" in text and "3.44 Hz" in text and "N = 76" in text
+    bounds = [FOLD_STATE_BOUND_HZ[n] for n in sorted(FOLD_STATE_BOUND_HZ)]
+    assert TENSION_FIELD_HZ < bounds[-1] and bounds == sorted(bounds, reverse=True)

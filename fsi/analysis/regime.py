@@ -31,6 +31,7 @@ import numpy as np
 
 from fsi.setup.motion import tank_acceleration
 from fsi.slosh.modal import tank_modes
+from fsi.text import about
 from structure.volume import tank_volume
 
 REGIME_TABLE_FILE = Path(__file__).with_name("regime_table.json")
@@ -90,12 +91,18 @@ def end_fill(scene) -> float:
     return dyn["start_fill"] + delivered / tank_volume(scene["tank"]["radius"])
 
 
+def period_fills(scene) -> tuple[float, float]:
+    """The (start, end) tank fractions of a coupled fill at which :func:`slosh_periods`
+    computes the slosh period, clipped to :data:`PERIOD_FILLS`."""
+    return tuple(float(np.clip(f, *PERIOD_FILLS))
+                 for f in (scene["dynamics"]["start_fill"], end_fill(scene)))
+
+
 def slosh_periods(scene) -> tuple[tuple, tuple]:
     """((start, end) tank fractions, their first lateral slosh periods (s)): the modes rung
     on the scene's fluid grid (:func:`fsi.slosh.modal.tank_modes`), the fractions clipped
     to :data:`PERIOD_FILLS`."""
-    fills = tuple(float(np.clip(f, *PERIOD_FILLS))
-                  for f in (scene["dynamics"]["start_fill"], end_fill(scene)))
+    fills = period_fills(scene)
     periods = []
     for fill in fills:
         found = tank_modes(scene["tank"]["radius"], fill, scene["fluid"]["cells"],
@@ -166,6 +173,36 @@ FIXED_ADVICE = {
               "inertia: only the coupled dynamic model has it"),
 }
 """Procedures whose model follows from what they compute, with the reason."""
+
+
+PERIOD_SECONDS = 1.2
+"""Wall seconds of one slosh period of :func:`slosh_periods` (an eigenvalue problem,
+:func:`fsi.slosh.modal.tank_modes`) on a :data:`PERIOD_CELLS`-cell fluid grid, measured on two
+cores: 0.02 s at 16 cells, 0.2 s at 24, 16 s at 48, 93 s at 64."""
+PERIOD_CELLS = 32
+PERIOD_COST_EXPONENT = 6.3
+"""The slosh period's cost grows as fluid.cells to this power (the fit of the times above)."""
+COMPILE_SECONDS = 20.0
+"""What a first run adds, compiling the fluid grid's cut-cell kernels (numba caches them)."""
+
+
+def work_seconds(scene) -> float:
+    """Rough wall seconds of :func:`advise` on ``scene`` once compiled: its two slosh
+    periods (the rest takes milliseconds)."""
+    cells = scene["fluid"]["cells"]
+    return 2 * PERIOD_SECONDS * (cells / PERIOD_CELLS) ** PERIOD_COST_EXPONENT
+
+
+def work_note(scene) -> str:
+    """What :func:`advise_scene` computes for ``scene`` and roughly how long it takes, to say
+    before it starts; '' when its answer is a fixed one (FIXED_ADVICE: nothing computed)."""
+    if scene["scene"]["procedure"] in FIXED_ADVICE:
+        return ""
+    start, end = period_fills(scene)
+    return (f"computing the liquid's first slosh period at tank fractions {start:.3g} and "
+            f"{end:.3g} on its {scene['fluid']['cells']}-cell fluid grid "
+            f"({about(work_seconds(scene))}; {COMPILE_SECONDS:.0f} s more on a first run, "
+            f"while the fluid kernels compile)")
 
 
 def advise_scene(scene, accuracy: float, rows: list[dict]) -> tuple[str, list[str]]:

@@ -3,9 +3,12 @@
 * ``cross_section_fill_XXX.png`` (``_tank_XXX`` on the tank-fraction scale; XXX the target
   in %): the membrane's middle grid line in the y-z plane with the tank wall, as thesis
   Figs 6.2-6.8 (App. J plots the grid column round(N/2));
-* ``surface_fill_XXX.png``: the 3-D membrane surface; titles give the tank fraction, and on the
-  thesis's scale the fill of the full inversion beside it;
-* ``cross_sections.png``: all fills of a group in one panel (filling and draining side by side);
+* ``surface_fill_XXX.png``: the 3-D render of the membrane in the tank with the liquid
+  (:mod:`fsi.io.render`), coloured by von Mises stress on one scale for the run; titles give
+  the tank fraction V / (4/3 pi R^3); not made (one line says why) where the renderer is
+  missing;
+* ``cross_sections.png``: all fills of a group in one panel (filling and draining side by
+  side), each curve coloured by its tank fraction;
 * ``coupling.png`` (coupled-fill runs): coupling iterations, pressure level and liquid volume
   per window against time;
 * ``slosh.png`` (slosh runs): the tank's acceleration, the liquid's centre of mass, the force
@@ -28,9 +31,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from fsi.io import modes_plots as _modes_plots  # noqa: E402,F401  (registers its plots)
+from fsi.io import render  # noqa: E402
 from fsi.io.output import read_result  # noqa: E402
 from fsi.io.plot_registry import PLOTS, register_plots, save as _save  # noqa: E402
-from fsi.io.stress_plots import stress_plots  # noqa: E402
+from fsi.io.stress_plots import TANK_FRACTION, stress_plots  # noqa: E402
 
 
 def middle_column(pos: np.ndarray, n: int) -> np.ndarray:
@@ -56,21 +60,17 @@ def make_plots(run_dir) -> list[Path]:
 
 
 def membrane_plots(res: dict, out: Path) -> list[Path]:
-    """Cross-section and surface of every frame, all cross-sections, and the coupling
+    """Cross-section and 3-D surface of every frame, all cross-sections, and the coupling
     history of a coupled run."""
     radius, n = float(res["attrs"]["radius"]), int(res["attrs"]["grid_size"])
     scale = str(res["attrs"].get("fill_scale", "full-inversion"))
-    written = []
     frames = res["frames"]
-    for k, pos in enumerate(frames["node_position"]):
-        label = fill_label(frames, k, scale)
-        target = frames["target_fill"][k] if "target_fill" in frames \
-            else np.nan
-        tag = f"{FILE_TAGS.get(scale, 'fill')}_{100 * float(target):05.1f}" \
-            if np.isfinite(target) else f"fill_{k:03d}"
-        written.append(_cross_section_plot(pos, n, radius, label,
-                                           out / f"cross_section_{tag}.png"))
-        written.append(_surface_plot(pos, n, radius, label, out / f"surface_{tag}.png"))
+    named = [(k, fill_label(frames, k), frame_tag(frames, k, scale))
+             for k in range(len(frames["node_position"]))]
+    written = [_cross_section_plot(frames["node_position"][k], n, radius, label,
+                                   out / f"cross_section_{tag}.png") for k, label, tag in named]
+    written += _surface_plots(res, [(k, label, out / f"surface_{tag}.png")
+                                    for k, label, tag in named])
     written.append(_cross_sections_plot(res, n, radius, out / "cross_sections.png"))
     if "windows" in res:
         written.append(_coupling_plot(res, out))
@@ -81,13 +81,18 @@ FILE_TAGS = {"full-inversion": "fill", "tank": "tank"}
 """Fill scale -> the word before the target fill (%) in the names of a frame's plots."""
 
 
-def fill_label(group: dict, k: int, scale: str) -> str:
-    """How a frame's fill is titled: its tank fraction V / (4/3 pi R^3), and on the thesis's
-    scale the fill of the full inversion beside it; a frame whose solve (or window) did not
-    converge says so."""
+def frame_tag(group: dict, k: int, scale: str) -> str:
+    """The name of frame ``k``'s plots: the scale's word and the target fill (%), or the
+    frame's number where it has no target."""
+    target = group["target_fill"][k] if "target_fill" in group else np.nan
+    return f"{FILE_TAGS.get(scale, 'fill')}_{100 * float(target):05.1f}" \
+        if np.isfinite(target) else f"fill_{k:03d}"
+
+
+def fill_label(group: dict, k: int) -> str:
+    """How a frame's fill is titled: its tank fraction V / (4/3 pi R^3) on every fill scale;
+    a frame whose solve (or window) did not converge says so."""
     text = f"tank fraction {float(group['tank_fraction'][k]):.3f}"
-    if "inversion_fraction" in group:
-        text += f" (inversion fraction {float(group['inversion_fraction'][k]):.3f})"
     if "converged" in group and not bool(group["converged"][k]):
         text += " - NOT CONVERGED"
     return text
@@ -106,38 +111,45 @@ def _cross_section_plot(pos, n: int, radius: float, label: str, path: Path) -> P
     return _save(fig, path)
 
 
-def _surface_plot(pos, n: int, radius: float, label: str, path: Path) -> Path:
-    """The 3-D membrane surface."""
-    g = pos.reshape(n, n, 3)
-    fig = plt.figure(figsize=(6, 5))
-    ax3 = fig.add_subplot(projection="3d")
-    ax3.plot_surface(g[..., 0], g[..., 1], g[..., 2], cmap="cool", edgecolor="k",
-                     linewidth=0.1, rstride=1, cstride=1)
-    ax3.set_box_aspect((1, 1, 1))
-    lim = (-radius, radius)
-    ax3.set(xlim=lim, ylim=lim, zlim=lim, xlabel="x (m)", ylabel="y (m)", zlabel="z (m)")
-    ax3.view_init(elev=25, azim=45)
-    ax3.set_title(f"Membrane, {label}", fontsize=10)
-    return _save(fig, path)
+def _surface_plots(res: dict, wanted: list[tuple[int, str, Path]]) -> list[Path]:
+    """The 3-D renders of frames ``wanted`` [(frame, title, path)] of the main group, in
+    the tank with the liquid, coloured by von Mises stress (the displacement without the
+    stress analysis) on one scale for the run (0 to the 99th percentile of the free sheet
+    over all its frames); none where the renderer is missing."""
+    if not wanted or not render.usable():
+        return []
+    field = render.first_available(res["frames"])
+    frames = [render.frame_of(res, "frames", k) for k, _, _ in wanted]
+    clim = render.percentile_scale(np.concatenate([render.sheet_values(f, field)
+                                                   for f in frames]))
+    note = (f"colour scale to the 99th percentile of the run's free sheet, "
+            f"{clim[1]:.3g} {render.FIELDS[field].unit}")
+    with render.Renderer() as renderer:
+        return [renderer.save(render.View(frame, field, clim, title=f"Membrane, {label}",
+                                          note=note), path)
+                for frame, (_, label, path) in zip(frames, wanted)]
 
 
 def _cross_sections_plot(res: dict, n: int, radius: float, path: Path) -> Path:
-    """All cross-sections of the filling and draining groups, side by side."""
+    """All cross-sections of the filling and draining groups, side by side, each coloured
+    by its tank fraction (one colourbar)."""
     groups = [g for g in ("frames", "drain") if g in res]
-    fig, axes = plt.subplots(1, len(groups), figsize=(6 * len(groups), 5), squeeze=False)
+    fig, axes = plt.subplots(1, len(groups), figsize=(5.2 * len(groups) + 1.2, 5),
+                             squeeze=False, constrained_layout=True)
+    top = max(float(np.max(res[g]["tank_fraction"])) for g in groups)
+    colours = plt.cm.ScalarMappable(plt.Normalize(0.0, top), "viridis")
     for ax, name in zip(axes[0], groups):
         draw_tank(ax, radius)
-        cmap = plt.get_cmap("viridis")
         for k, pos in enumerate(res[name]["node_position"]):
-            tank = float(res[name]["tank_fraction"][k])
             col = middle_column(pos, n)
-            ax.plot(col[:, 1], col[:, 2], color=cmap(tank), lw=1.2, label=f"{tank:.2f}")
+            ax.plot(col[:, 1], col[:, 2], color=colours.to_rgba(res[name]["tank_fraction"][k]),
+                    lw=1.2)
         ax.set_aspect("equal")
         ax.set_title({"frames": "filling", "drain": "draining"}[name]
-                     + ", by tank fraction V / (4/3 $\\pi$ R$^3$)")
+                     + f", {len(res[name]['node_position'])} frames", fontsize=10)
         ax.set_xlabel("y (m)")
         ax.set_ylabel("z (m)")
-        ax.legend(fontsize=6, loc="upper right", ncol=2)
+    fig.colorbar(colours, ax=axes[0].tolist(), shrink=0.85, label=TANK_FRACTION)
     return _save(fig, path)
 
 

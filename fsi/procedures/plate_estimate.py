@@ -27,6 +27,7 @@ from structure.plate import ESTIMATES, FlatDiaphragm
 
 from fsi.lifecycle import Progress, Run, RunResult
 from fsi.registry import Key, Procedure, Table, one_of, register_procedure
+from fsi.text import format_table
 
 RADIAL_SAMPLES = 41
 """Radii at which each profile is recorded, 0..a (-)."""
@@ -122,19 +123,35 @@ def _radius_record(radius: float, by_fill: dict) -> dict:
     return out
 
 
+PLATE_COLUMNS = [("tank fraction", "-"), ("load", "Pa"), ("estimate", ""), ("w0", "mm"),
+                 ("w0/t", "-"), ("valid w0/t", ""), ("in range", "")]
+"""The columns of the report's table: per fill and estimate, the centre deflection w0, its
+ratio to the thickness t, the estimate's validity range and whether w0/t is in it."""
+PLATE_FORMATS = [".3f", ".1f", "", ".2f", ".1f", "", ""]
+
+
 def report_plate(result: RunResult) -> None:
-    """Centre deflection by fill and estimate, with w0 / t and validity."""
-    g, a = result.groups["plate"], result.attrs
+    """Centre deflection by fill and estimate, with w0 / t and validity (a table)."""
+    a = result.attrs
     print(f"flat diaphragm, radius {a['flat_radius']:.4f} m, thickness {1e3 * a['thickness']:.3f}"
           f" mm, {a['load']} load")
-    print("tank fraction  load (Pa)  " + "  ".join(f"{n:>22s}" for n in ESTIMATES))
+    print(format_table(PLATE_COLUMNS, plate_rows(result), PLATE_FORMATS))
+
+
+def plate_rows(result: RunResult) -> list[tuple]:
+    """The rows of the report's table (:data:`PLATE_COLUMNS`), one per fill and estimate; the
+    fill and load on the first of each fill's rows only."""
+    g, a = result.groups["plate"], result.attrs
+    rows = []
     for k, fill in enumerate(g["tank_fraction"]):
-        cells = []
-        for name in ESTIMATES:
-            w0 = g[f"centre_deflection_{name}"][k]
-            mark = "" if g[f"valid_{name}"][k] else " (out)"
-            cells.append(f"{1e3 * w0:9.2f} mm {w0 / a['thickness']:7.1f} t{mark:6s}")
-        print(f"{fill:13.3f}  {g['pressure'][k]:9.1f}  " + "  ".join(cells))
+        for j, name in enumerate(ESTIMATES):
+            w0 = float(g[f"centre_deflection_{name}"][k])
+            lo, hi = (float(v) for v in a[f"valid_range_{name}"])
+            rows.append((float(fill) if j == 0 else None,
+                         float(g["pressure"][k]) if j == 0 else None, name, 1e3 * w0,
+                         w0 / a["thickness"], f"{lo:g}..{hi:g}",
+                         "yes" if g[f"valid_{name}"][k] else "no"))
+    return rows
 
 
 PROCEDURE = register_procedure(Procedure(

@@ -41,6 +41,7 @@ from fsi.setup.models import XPBD_COURANT_FRACTION, XPBD_DYNAMIC_SWEEPS
 from fsi.setup.motion import body_acceleration, tank_acceleration
 from fsi.registry import Key, Procedure, SceneError, Table, one_of, positive, register_procedure
 from fsi.slosh.analysis import stokes_layer
+from fsi.slosh.grid_bracket import grid_caveat
 from fsi.slosh.response import contents_response, first_mode
 from fsi.procedures.coupled import COUPLING, FLUID, MOTION, START_GRID
 from fsi.procedures.coupled_fill import START_TOLERANCE
@@ -160,7 +161,9 @@ def slosh(setup, progress: Progress) -> RunResult:
     windows["tank_fraction"] = windows["fluid_liquid_volume"] / tank
     gravity = -float(setup.liquid.body_acceleration[2])
     attrs = dict(
-        surface=table["surface"], target_tank_fraction=table["fill"],
+        surface=table["surface"], membrane_shape=scene["membrane"]["shape"],
+        grid_size=setup.model.grid_size,
+        target_tank_fraction=table["fill"],
         tank_fraction=volume / tank, level=start.level,
         liquid_mass=setup.liquid.density * volume, contents_mass=mass,
         centre_height=float(contents.centre[2]), window=window, windows_planned=n_windows,
@@ -217,6 +220,16 @@ def stokes_attrs(scene, radius: float, omega: float) -> dict:
     return dict(stokes_layer=delta, stokes_layer_cells=delta / h)
 
 
+def _membrane_shape(a: dict) -> str:
+    """The run's membrane shape: its attribute, or in a result written before it was one, the
+    scene text's (the default hemisphere when the scene does not say)."""
+    if "membrane_shape" in a:
+        return str(a["membrane_shape"])
+    import tomllib
+
+    return tomllib.loads(str(a.get("scene", ""))).get("membrane", {}).get("shape", "hemisphere")
+
+
 def _zeta_origin(a: dict) -> str:
     """What the fitted zeta holds, for the summary."""
     if "stokes_layer" not in a:
@@ -250,7 +263,9 @@ def compliance_attrs(contents: Contents, attrs: dict) -> dict:
 
 
 def report(result) -> None:
-    """The summary ``fsi run`` prints after a slosh run."""
+    """The summary ``fsi run`` prints after a slosh run (and ``fsi show``); with the
+    hemispherical diaphragm, the first mode is labelled its grid's, with the bracket
+    (:func:`fsi.slosh.grid_bracket.grid_caveat`)."""
     a = result.attrs
     print(f"slosh ({a['surface']} surface): tank fraction {a['tank_fraction']:.4f} "
           f"(V / (4/3 pi R^3), target {a['target_tank_fraction']:.4f}), {a['windows_done']} "
@@ -274,6 +289,8 @@ def report(result) -> None:
     print(f"  first mode: {a['frequency_hz']:.4f} +- {a['frequency_hz_std']:.1e} Hz, "
           f"lambda1 = omega^2 R / g = {a['lambda1']:.4f}, zeta = {a['zeta']:.5f} +- "
           f"{a['zeta_std']:.1e}{_zeta_origin(a)}")
+    if a["surface"] == "diaphragm" and _membrane_shape(a) == "hemisphere":
+        print(f"  the first mode is {grid_caveat(int(a['grid_size']))}")
     for k in range(1, int(a.get("modes", 1))):
         mass = (f", x slosh mass {a['mode_slosh_mass'][k]:.3f} kg"
                 if "mode_slosh_mass" in a else "")

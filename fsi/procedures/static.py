@@ -13,6 +13,7 @@ from structure.volume import FillScale, tank_volume
 from fsi.setup.fill import FILL_SCALES, FullInversion
 from fsi.lifecycle import membrane_frame
 from fsi.registry import Key, Table, one_of, positive
+from fsi.text import format_table
 
 
 def _fills(v):
@@ -78,14 +79,14 @@ def full_inversion_parts(setup, full: FullInversion) -> tuple[dict, dict]:
 
 
 SWEEP_COLUMNS = (
-    ("tank_fraction", "tank fraction", "1", "{:.4f}"),
-    ("inversion_fraction", "inversion fraction", "1", "{:.4f}"),
-    ("liquid_volume", "liquid volume", "m^3", "{:.6e}"),
-    ("pressure_level", "level p_ref", "Pa", "{:.1f}"),
-    ("strain_error", "strain (mean)", "1", "{:.5f}"),
-    ("strain_max", "strain (max)", "1", "{:.5f}"),
-    ("relaxation_steps", "steps", "1", "{:.0f}"),
-    ("wall_seconds", "wall", "s", "{:.2f}"),
+    ("tank_fraction", "tank fraction", "-", ".4f"),
+    ("inversion_fraction", "inversion fraction", "-", ".4f"),
+    ("liquid_volume", "liquid volume", "m^3", ".6e"),
+    ("pressure_level", "level p_ref", "Pa", ".1f"),
+    ("strain_error", "mean strain", "-", ".5f"),
+    ("strain_max", "max strain", "-", ".5f"),
+    ("relaxation_steps", "steps", "-", "d"),
+    ("wall_seconds", "wall", "s", ".2f"),
 )
 """The columns of the static table: dataset, header, unit, format (``inversion_fraction``
 only where the run reproduces App. J)."""
@@ -97,27 +98,33 @@ SWEEP_NOTES = (
     "liquid volume: below the sheet",
     "level p_ref: the liquid's pressure at the tank centre over the gas's, the volume's "
     "multiplier (negative: below the gas's; the sheet's tension carries the difference)",
-    "strain: the in-plane springs' |L - L0| / L0, mean (the thesis's error) and largest "
-    "(the thesis's measure)",
+    "mean strain, max strain: the in-plane springs' |L - L0| / L0, mean (the thesis's "
+    "error) and largest",
     "steps: the solver's pseudo-steps (the thesis ramp: the step index)",
     "wall: the frame's solve time",
 )
 """What the static table's columns mean, printed under it."""
 
 
+def _notes_by_column() -> dict:
+    """Column header -> the note of :data:`SWEEP_NOTES` that explains it."""
+    return {head: note for note in SWEEP_NOTES for head in note.split(":")[0].split(", ")}
+
+
 def columns_markdown() -> str:
     """The static table's columns (:data:`SWEEP_COLUMNS`) and what they mean
     (:data:`SWEEP_NOTES`), for the outputs page."""
-    notes = {n.split(":")[0]: n.split(":", 1)[1].strip() for n in SWEEP_NOTES}
+    notes = _notes_by_column()
     rows = ["| column | unit | dataset | meaning |", "|---|---|---|---|"]
     for key, head, unit, _ in SWEEP_COLUMNS:
-        meaning = notes.get(head, notes["strain"] if head.startswith("strain") else "")
+        meaning = notes[head].split(":", 1)[1].strip()
         rows.append(f"| {head} | {unit} | `{key}` | {meaning.replace('|', chr(92) + '|')} |")
     return "\n".join(rows)
 
 
 def report_sweep(result) -> None:
-    """The fill table ``fsi run`` prints after a static procedure (:data:`SWEEP_COLUMNS`)."""
+    """The fill table ``fsi run`` prints after a static procedure (:data:`SWEEP_COLUMNS`),
+    and what its columns mean (:data:`SWEEP_NOTES`)."""
     a = result.attrs
     print(f"full inversion (inversion fraction 1): tank fraction "
           f"{a['full_tank_fraction']:.4f}, "
@@ -128,19 +135,24 @@ def report_sweep(result) -> None:
             continue
         g = result.groups[name]
         columns = [c for c in SWEEP_COLUMNS if c[0] in g]
-        rows = [[fmt.format(float(g[key][k]) + 0.0) if np.isfinite(g[key][k]) else "-"
-                 for key, _, _, fmt in columns] for k in range(len(g["tank_fraction"]))]
+        rows = [[_cell(g[key][k], fmt) for key, _, _, fmt in columns]
+                for k in range(len(g["tank_fraction"]))]
         print(f"[{'filling' if name == 'frames' else 'draining'}]")
-        print(format_table([(head, unit) for _, head, unit, _ in columns], rows))
-    shown = {c[1] for c in SWEEP_COLUMNS if any(c[0] in result.groups.get(n, {})
-                                                  for n in ("frames", "drain"))}
-    for note in SWEEP_NOTES:
-        if note.split(":")[0] in shown or note.startswith("strain"):
-            print(f"  {note}")
+        print(format_table([(head, unit) for _, head, unit, _ in columns], rows,
+                           [fmt for *_, fmt in columns]))
+    notes = _notes_by_column()
+    shown = [notes[head] for key, head, *_ in SWEEP_COLUMNS
+             if any(key in result.groups.get(n, {}) for n in ("frames", "drain"))]
+    for note in dict.fromkeys(shown):
+        print(f"  {note}")
 
 
+def _cell(value, fmt: str):
+    """A table cell: the number (an integer for an integer format), or None where it is
+    missing."""
+    value = float(value)
+    if not np.isfinite(value):
+        return None
+    return int(value) if fmt == "d" else float(np.round(value, 12)) + 0.0  # no -0.0000
 
-def format_table(headers, rows) -> str:  # replaced by the shared table formatter
-    cells = [[f"{h} ({u})" for h, u in headers]] + rows
-    width = [max(len(r[i]) for r in cells) for i in range(len(headers))]
-    return "\n".join("  " + "  ".join(c.rjust(w) for c, w in zip(r, width)) for r in cells)
+

@@ -28,6 +28,10 @@ from fsi.procedures.static import (RELAXATION, SWEEP, full_inversion_parts, repo
 log = logging.getLogger(__name__)
 
 
+LEGS = {"frames": "filling", "drain": "draining"}
+"""A leg's group -> what the progress and the log call it."""
+
+
 def volume_sweep(setup, progress: Progress) -> RunResult:
     """Quasi-static sweep over ``sweep.fills`` by continuation, then back down with
     ``sweep.drain``."""
@@ -52,14 +56,15 @@ def volume_sweep(setup, progress: Progress) -> RunResult:
             if np.isfinite(info.pressure_level):
                 level = info.pressure_level
             seconds = time.perf_counter() - t0
+            record = static_frame(setup, state.node_position, info.pressure_level, fill,
+                                  seconds, info.steps, info.converged, inversion)
             if not info.converged:
-                log.warning("%s fill %.3f: %s model not converged after %d steps", group, fill,
-                            setup.structure_model, info.steps)
-            run.record(group, static_frame(setup, state.node_position, info.pressure_level,
-                                           fill, seconds, info.steps, info.converged,
-                                           inversion))
+                log.warning("%s, tank fraction %.3f: %s model not converged after %d steps",
+                            LEGS[group], record["tank_fraction"], setup.structure_model,
+                            info.steps)
+            run.record(group, record)
             done += 1
-            run.progress(done, f"{group} fill {fill:.2f}")
+            run.progress(done, f"{LEGS[group]}, tank fraction {record['tank_fraction']:.3f}")
     return run.result(groups, **attrs, structure_model=setup.structure_model,
                       fill_scale=setup.scene["sweep"]["scale"])
 

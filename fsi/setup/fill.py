@@ -35,7 +35,7 @@ from structure.load import Equilibrium
 from structure.model import MembraneModel, MembraneState
 from structure.statics import solve_equilibrium
 from structure.thesis import CourantError
-from structure.volume import FillScale, liquid_volume, mirrored_rest_position
+from structure.volume import FillScale, liquid_volume, mirrored_rest_position, tank_volume
 
 from fsi.setup.build import Setup
 from fsi.setup.models import hydrostatic_load
@@ -132,7 +132,8 @@ def full_inversion(setup: Setup) -> FullInversion:
                     "volume is approximate", info.steps, info.move_ratio)
     scale = FillScale(liquid_volume(model, model.node_rest_position), info.liquid_volume)
     mirrored = liquid_volume(model, mirrored_rest_position(model))
-    log.info("100 %% fill = fully inverted equilibrium at h = %.4f m: %.6e m^3 = %.4f of the "
-             "mirrored rest shape", setup.scene["sweep"]["full_height"] * model.radius,
-             info.liquid_volume, info.liquid_volume / mirrored)
+    log.info("the full inversion (under an equivalent liquid height of %.4f m) holds tank "
+             "fraction %.4f, %.4f of the mirrored rest shape",
+             setup.scene["sweep"]["full_height"] * model.radius,
+             info.liquid_volume / tank_volume(model.radius), info.liquid_volume / mirrored)
     return FullInversion(scale, state, info, mirrored)

@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from fsi.registry import SceneError
+from fsi.text import closest, unknown_name
 
 SWEEP_TABLES = ("sweep", "set", "vary", "zip")
 SWEEP_KEYS = ("name", "description", "scene", "plot", "reference")
@@ -158,14 +159,8 @@ def parse_sweep(text: str, source: str = "<string>", base: Path | None = None) -
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise SweepError(f"{source}: not valid TOML: {err}") from None
-    unknown = set(raw) - set(SWEEP_TABLES)
-    if unknown:
-        raise SweepError(f"{source}: unknown table [{sorted(unknown)[0]}]; allowed: "
-                         f"{', '.join(SWEEP_TABLES)}")
+    check_known(raw, source)
     head = raw.get("sweep", {})
-    if set(head) - set(SWEEP_KEYS):
-        raise SweepError(f"{source}: unknown key 'sweep.{sorted(set(head) - set(SWEEP_KEYS))[0]}'"
-                         f"; allowed: {', '.join(SWEEP_KEYS)}")
     if not isinstance(head.get("scene"), str):
         raise SweepError(f"{source}: 'sweep.scene' names the base scene (bundled name or "
                          "file); it is missing")
@@ -179,6 +174,26 @@ def parse_sweep(text: str, source: str = "<string>", base: Path | None = None) -
     sweep.cases = build_cases(sweep)
     sweep.reference = reference_case(sweep, head.get("reference"), source)
     return sweep
+
+
+def check_known(raw: dict, source: str) -> None:
+    """:class:`SweepError` for a table of the sweep file, or a key of its [sweep] table, that
+    a sweep file does not have, naming it, the closest known name and the names allowed."""
+    unknown = sorted(set(raw) - set(SWEEP_TABLES))
+    if unknown:
+        match = closest(unknown[0], SWEEP_TABLES)
+        raise SweepError(f"{source}: unknown table [{unknown[0]}]"
+                         + (f"; did you mean [{match}]?" if match else ";")
+                         + f" allowed: {', '.join(SWEEP_TABLES)}")
+    head = raw.get("sweep", {})
+    if not isinstance(head, dict):
+        raise SweepError(f"{source}: 'sweep' must be a table [sweep]")
+    unknown = sorted(set(head) - set(SWEEP_KEYS))
+    if unknown:
+        match = closest(unknown[0], SWEEP_KEYS)
+        raise SweepError(f"{source}: unknown key 'sweep.{unknown[0]}'"
+                         + (f"; did you mean 'sweep.{match}'?" if match else ";")
+                         + f" allowed: {', '.join(SWEEP_KEYS)}")
 
 
 def reference_case(sweep: Sweep, keys, source: str) -> str:
@@ -266,8 +281,7 @@ def bundled_sweeps() -> list[str]:
 def bundled_sweep_text(name: str) -> str:
     """The TOML text of the bundled sweep ``name``; :class:`SweepError` when there is none."""
     if name not in bundled_sweeps():
-        raise SweepError(f"unknown sweep '{name}': not one of the bundled sweeps "
-                         f"{bundled_sweeps()}")
+        raise SweepError(unknown_name("sweep", name, bundled_sweeps(), "fsi sweeps"))
     return resources.files("fsi.sweeps").joinpath(f"{name}.toml").read_text()
 
 
@@ -279,6 +293,6 @@ def load_sweep(name_or_path: str) -> Sweep:
 
         return parse_sweep(read_text(path), str(path), path.resolve().parent)
     if name_or_path not in bundled_sweeps():
-        raise SweepError(f"unknown sweep '{name_or_path}': not a file, and not one of the "
-                         f"bundled sweeps {bundled_sweeps()}")
+        raise SweepError(unknown_name("sweep", name_or_path, bundled_sweeps(),
+                                      "fsi sweeps"))
     return parse_sweep(bundled_sweep_text(name_or_path), f"bundled:{name_or_path}")
