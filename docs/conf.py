@@ -33,6 +33,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax 3 copied into _static/mathjax: equations render offline
     "sphinx.ext.viewcode",
     "generated",  # docs/_ext/generated.py: scene keys, output datasets, notebooks
     "docstrings",  # docs/_ext/docstrings.py: |x| in docstrings read as written
@@ -46,6 +47,8 @@ exclude_patterns = ["_build", "data", "Thumbs.db", ".DS_Store", "**.ipynb_checkp
                     "jupyter_execute"]
 templates_path: list[str] = []
 html_static_path = ["_static"]
+# Commands are copied from the pages: "--fills" must not become an en dash, nor ' a curly quote.
+smartquotes = False
 
 # -- MyST -------------------------------------------------------------------------------
 myst_enable_extensions = [
@@ -87,4 +90,7 @@ html_theme_options = {
     "navigation_with_keys": True,
 }
 html_last_updated_fmt = None
+# The site loads nothing from another host (tests/test_docs_build.py): MathJax is served from
+# _static/mathjax, which sphinx-mathjax-offline fills on every build.
+mathjax_path = "mathjax/tex-chtml.js"
 nitpicky = False

@@ -60,16 +60,24 @@ def format_table(headers: Optional[Sequence[tuple[str, str]]], rows: Sequence[Se
                  formats: Sequence[str], *, width: Optional[int] = None) -> str:
     """The lines of a table, joined by newlines (no final newline, no trailing spaces).
 
-    headers : (name, unit) of each column, printed 'name (unit)' in a header line above the
-        rows; unit '-' for a dimensionless number, '' for none. None: no header line.
-    rows : a value per column in each row: a number (right-aligned), text (left-aligned) or
-        None (an empty cell).
-    formats : a format spec per column, as :func:`format` takes it ('.3f', '.1f', '').
-    width : when given, the last column's text is wrapped to end within ``width``
-        characters (but is at least :data:`MIN_WRAP` wide), its further lines indented to
-        the column's start.
+    Parameters
+    ----------
+    headers
+        (name, unit) of each column, printed 'name (unit)' in a header line above the rows;
+        unit '-' for a dimensionless number, '' for none. None: no header line.
+    rows
+        A value per column in each row: a number (right-aligned), text (left-aligned) or None
+        (an empty cell).
+    formats
+        A format spec per column, as :func:`format` takes it ('.3f', '.1f', '').
+    width
+        When given, the last column's text is wrapped to end within ``width`` characters (but
+        is at least :data:`MIN_WRAP` wide), its further lines indented to the column's start.
 
-    Raises ValueError when a row or the headers do not have a value per format.
+    Raises
+    ------
+    ValueError
+        When a row or the headers do not have a value per format.
     """
     count = len(formats)
     if any(len(row) != count for row in rows) or (headers is not None and len(headers) != count):
