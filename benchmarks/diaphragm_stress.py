@@ -16,7 +16,8 @@ for the forced slosh, whose volume is its static start's, the result's
 ``dynamic_amplification``. Writes ``diaphragm_stress.png`` (the sheet's largest stress in
 time, with the static model's where it is computed) and prints one JSON object, ``cases``
 keyed by scene (a full run also writes it to ``docs/data/diaphragm_stress.json``). About
-8 min on 2 cores. ``--smoke``: each scene cut to its first windows (:data:`SMOKE_KEYS`).
+8 min on 2 cores. ``--smoke``: each scene cut to its first
+windows (:data:`SMOKE_KEYS`), run without its plots.
 """
 from __future__ import annotations
 
@@ -57,7 +58,8 @@ DOC_FIELDS = ("cases",)
 
 
 def run_case(name: str, out: Path, smoke: bool) -> tuple[dict, dict, object]:
-    """Run scene ``name`` into ``out`` as ``fsi run`` does; (facts, result, scene)."""
+    """Run scene ``name`` into ``out`` as ``fsi run`` does (``smoke``: cut, no plots); (facts,
+    result, scene)."""
     raw = tomllib.loads(load_scene(name).text)
     for table, keys in (SMOKE_KEYS[name] if smoke else {}).items():
         raw.setdefault(table, {}).update(keys)
@@ -67,7 +69,8 @@ def run_case(name: str, out: Path, smoke: bool) -> tuple[dict, dict, object]:
         path.write_text(tomli_w.dumps(raw))
         start = time.perf_counter()
         done = subprocess.run([sys.executable, "-m", "fsi.cli", "run", str(path), "--out",
-                               str(out), "--overwrite"], capture_output=True, text=True, cwd=ROOT)
+                               str(out), "--overwrite"] + (["--no-plots"] if smoke else []),
+                              capture_output=True, text=True, cwd=ROOT)
         wall = time.perf_counter() - start
     if done.returncode not in (0, 3):
         raise SystemExit(f"{name}: exit {done.returncode}\n{done.stderr[-3000:]}")

@@ -179,21 +179,22 @@ def parse_sweep(text: str, source: str = "<string>", base: Path | None = None) -
 def check_known(raw: dict, source: str) -> None:
     """:class:`SweepError` for a table of the sweep file, or a key of its [sweep] table, that
     a sweep file does not have, naming it, the closest known name and the names allowed."""
-    unknown = sorted(set(raw) - set(SWEEP_TABLES))
-    if unknown:
-        match = closest(unknown[0], SWEEP_TABLES)
-        raise SweepError(f"{source}: unknown table [{unknown[0]}]"
-                         + (f"; did you mean [{match}]?" if match else ";")
-                         + f" allowed: {', '.join(SWEEP_TABLES)}")
+    _refuse_unknown(set(raw), SWEEP_TABLES, source, "table [{}]", "[{}]")
     head = raw.get("sweep", {})
     if not isinstance(head, dict):
         raise SweepError(f"{source}: 'sweep' must be a table [sweep]")
-    unknown = sorted(set(head) - set(SWEEP_KEYS))
+    _refuse_unknown(set(head), SWEEP_KEYS, source, "key 'sweep.{}'", "'sweep.{}'")
+
+
+def _refuse_unknown(names: set, known, source: str, what: str, quoted: str) -> None:
+    """:class:`SweepError` for the first of ``names`` not in ``known``: ``what`` and
+    ``quoted`` format it in the message (the unknown name, the closest known one)."""
+    unknown = sorted(names - set(known))
     if unknown:
-        match = closest(unknown[0], SWEEP_KEYS)
-        raise SweepError(f"{source}: unknown key 'sweep.{unknown[0]}'"
-                         + (f"; did you mean 'sweep.{match}'?" if match else ";")
-                         + f" allowed: {', '.join(SWEEP_KEYS)}")
+        match = closest(unknown[0], known)
+        raise SweepError(f"{source}: unknown {what.format(unknown[0])}"
+                         + (f"; did you mean {quoted.format(match)}?" if match else ";")
+                         + f" allowed: {', '.join(known)}")
 
 
 def reference_case(sweep: Sweep, keys, source: str) -> str:
