@@ -359,3 +359,16 @@ def test_a_sweeps_progress_off_a_terminal_is_a_line_per_case(capsys):
     assert capsys.readouterr().err.split("\n") == [
         "s: 1 cases finished before, skipped", "  a: exit 0, 1.0 s [1 of 2 done, 0 failed]",
         "  b: exit 1, 2.0 s (fsi: error: x) [2 of 2 done, 1 failed]", ""]
+
+
+def test_a_reader_that_stops_early_gets_no_traceback():
+    """``fsi scenes | head -0``: when the reader has closed the pipe before fsi writes, fsi
+    stops without a traceback on stderr."""
+    import subprocess
+
+    proc = subprocess.Popen([sys.executable, "-m", "fsi.cli", "scenes"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    proc.wait(timeout=60)
+    assert "Traceback" not in err and "BrokenPipeError" not in err
