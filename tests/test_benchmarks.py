@@ -82,6 +82,7 @@ def test_docstring_run_line_names_smoke(script):
     assert "--smoke" in " ".join(command), command
 
 
+@pytest.mark.benchmark
 @pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.stem)
 def test_smoke_run_prints_the_documented_fields(script):
     fields = module_constant(script, "DOC_FIELDS")
