@@ -1,0 +1,63 @@
+"""The shell of revolution: its discretised meridian, its section and law, its rim support.
+
+The section is a :class:`structure.model.Material` (thickness t, density rho_m, Young's modulus
+E, Poisson ratio nu, ``wrinkling`` "tension-field" for a sheet that carries no compression);
+the membrane law a :class:`structure.hyperelastic.SaintVenantKirchhoff` or
+:class:`structure.hyperelastic.HyperelasticLaw` (:func:`structure.axisymmetric.laws.law_of`
+makes either from the material); the bending stiffness the material's
+D = E t^3 / (12 (1 - nu^2)) (:attr:`structure.model.Material.flexural_rigidity`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..hyperelastic import SaintVenantKirchhoff
+from ..model import Material
+from .meridian import Meridian, RestShape, build_meridian
+from .supports import Admissible, admissible
+
+
+@dataclass(frozen=True)
+class ShellOfRevolution:
+    """meridian : :class:`~structure.axisymmetric.meridian.Meridian`; material :
+    :class:`structure.model.Material`; law : the membrane law; support : the rim's, one of
+    :data:`structure.axisymmetric.supports.SUPPORTS`; bending : include the bending energy.
+    ``admissible`` (:class:`~structure.axisymmetric.supports.Admissible`) is derived."""
+
+    meridian: Meridian
+    material: Material
+    law: object
+    support: str = "clamped"
+    bending: bool = True
+    admissible: Admissible = field(init=False, repr=False)
+
+    def __post_init__(self):
+        if isinstance(self.law, SaintVenantKirchhoff) and \
+                self.law.poisson_ratio != self.material.poisson_ratio:
+            raise ValueError(f"the law's Poisson ratio {self.law.poisson_ratio} is not the "
+                             f"material's {self.material.poisson_ratio}")
+        object.__setattr__(self, "admissible", admissible(self.meridian, self.support))
+
+    @property
+    def tension_field(self) -> bool:
+        """The sheet carries no compression (the material's ``wrinkling``)."""
+        return self.material.wrinkling == "tension-field"
+
+    @property
+    def flexural_rigidity(self) -> float:
+        """D (N m), zero without bending."""
+        return self.material.flexural_rigidity if self.bending else 0.0
+
+    @property
+    def radius(self) -> float:
+        """The rim's radius a (m), the tank's."""
+        return self.meridian.shape.radius
+
+
+def shell_of_revolution(kind: str, radius: float, material: Material, law, elements: int,
+                        support: str = "clamped", bending: bool = True, points: int = 4,
+                        pole_ratio: float = 1.0, rim_ratio: float = 1.0) -> ShellOfRevolution:
+    """The shell of the rest shape ``kind`` (``hemisphere`` or ``disc``) of ``radius`` m on
+    ``elements`` elements (:func:`~structure.axisymmetric.meridian.build_meridian`)."""
+    meridian = build_meridian(RestShape(kind, radius), elements, points, pole_ratio, rim_ratio)
+    return ShellOfRevolution(meridian, material, law, support, bending)
