@@ -84,9 +84,9 @@ def _over_the_run(setup, geometry: SheetGeometry, group: dict, fields: dict, fol
     stamp = stamp_name(group)
     env = envelope(group, geometry.rest_polar, geometry.rest_azimuth)
     attrs.update(peak_attributes(env, stamp, geometry.free_triangle))
-    k = int(np.argmin(np.abs(np.asarray(group[stamp], float) - attrs[f"peak_stress_{stamp}"])))
-    attrs["peak_stress_membrane"] = float(group["principal_stress"][k,
-                                                                     attrs["peak_stress_triangle"], 0])
+    t = attrs["peak_stress_triangle"]
+    k = int(np.nanargmax(fields["surface_stress"][:, t]))    # the frame of the peak
+    attrs["peak_stress_membrane"] = float(fields["principal_stress"][k, t, 0])
     for name, peak in (("stress", "peak_stress"), ("strain", "peak_strain")):
         limit = setup.scene["limits"][name]
         if limit > 0:

@@ -224,15 +224,15 @@ def _write_dataset(group, key: str, data, name: str) -> None:
     declared; an infinite entry is a missing one too, and logged (``name``)."""
     arr = np.asarray(data)
     fill = FILL_VALUES.get(arr.dtype)
-    missing = ~np.isfinite(arr) if fill is not None else None
-    if missing is not None and missing.any():
-        if np.isinf(arr).any():
-            log.warning("%s: %d infinite entries written as missing", name,
-                        int(np.isinf(arr).sum()))
-        arr = np.where(missing, fill, arr)
+    missing = fill is not None and not np.all(np.isfinite(arr))
+    if missing:
+        infinite = int(np.isinf(arr).sum())
+        if infinite:
+            log.warning("%s: %d infinite entries written as missing", name, infinite)
+        arr = np.where(np.isfinite(arr), arr, fill)
     ds = group.create_dataset(key, data=arr)
     ds.attrs["units"] = units_of(key)
-    if missing is not None and missing.any():
+    if missing:
         ds.attrs["_FillValue"] = fill
 
 
