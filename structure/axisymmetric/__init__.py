@@ -12,15 +12,21 @@ meridian's principal stretches, with the tension field and the Kirchhoff-Love be
 weight, each by its potential (:mod:`.loads`). :mod:`.energy` assembles the potential, its
 gradient and its sparse Hessian; :mod:`.solve` finds equilibria under a held pressure or a
 held volume (bordered Newton); :mod:`.fields` reads the stretches, resultants, stresses and
-moments off a state. The tank wall (contact) does not act here.
+moments off a state. The tank wall is a smooth barrier (:mod:`.wall`); :mod:`.continuation`
+follows the equilibria by pseudo-arc-length in the liquid's volume through its limit points,
+and :mod:`.fill_drain` fills and drains the tank, snapping where a leg meets one.
 """
+from .continuation import ContinuationSettings, EquilibriumCurve, trace
 from .fields import meridian_fields
+from .fill_drain import Leg, leg
 from .laws import law_of
 from .loads import AxisymmetricLoad
 from .meridian import RestShape, build_meridian
 from .model import ShellOfRevolution, shell_of_revolution
 from .solve import AxisymmetricEquilibrium, NewtonSettings, equilibrium, path
+from .wall import BarrierWall, barrier_wall
 
-__all__ = ["AxisymmetricEquilibrium", "AxisymmetricLoad", "NewtonSettings", "RestShape",
-           "ShellOfRevolution", "build_meridian", "equilibrium", "law_of", "meridian_fields",
-           "path", "shell_of_revolution"]
+__all__ = ["AxisymmetricEquilibrium", "AxisymmetricLoad", "BarrierWall", "ContinuationSettings",
+           "EquilibriumCurve", "Leg", "NewtonSettings", "RestShape", "ShellOfRevolution",
+           "barrier_wall", "build_meridian", "equilibrium", "law_of", "leg", "meridian_fields",
+           "path", "shell_of_revolution", "trace"]

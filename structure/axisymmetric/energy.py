@@ -4,11 +4,13 @@ over the meridian's elements into a sparse matrix (SciPy).
 At a state x (4 n,) and a net uniform pressure mu (Pa) into the bowl,
 
     Pi(x; mu) = Int [t W(E_s, E_t) + D/2 (kappa_s^2 + 2 nu kappa_s kappa_t + kappa_t^2)] dA_0
-                + rho_m t g Int z dA_0 - rho g M_b(x) - mu V_b(x)          (J, up to constants)
+                + rho_m t g Int z dA_0 - rho g M_b(x) - mu V_b(x)
+                + Int kappa b(d(x)) dA_0                                     (J, up to constants)
 
 with dA_0 = 2 pi R A dS (:mod:`~structure.axisymmetric.kinematics` for the strains,
 :mod:`~structure.axisymmetric.laws` for W and the bending density,
-:mod:`~structure.axisymmetric.loads` for the loads). Each integral is a Gauss sum over the
+:mod:`~structure.axisymmetric.loads` for the loads, :mod:`~structure.axisymmetric.wall` for the
+tank wall's barrier, where the shell has one). Each integral is a Gauss sum over the
 elements; at a Gauss point the integrand is a function f(u) of the local variables u (6,) with
 its exact gradient and Hessian (the strains' chain rule: f_u = f_q q_u, f_uu = q_u^T f_qq q_u +
 f_q q_uu), and u = B d (B: :attr:`~structure.axisymmetric.meridian.Meridian.point_basis`) gives
@@ -27,6 +29,7 @@ from .laws import bending_density, membrane_density
 from .loads import AxisymmetricLoad, moment_density, volume_density
 from .meridian import Meridian, local_variables
 from .model import ShellOfRevolution
+from .wall import wall_density
 
 
 @dataclass(frozen=True)
@@ -83,7 +86,7 @@ def internal_density(shell: ShellOfRevolution, u: np.ndarray, rest: dict, order:
     fqq[:, 2:, 2:] = bkk
     fqq *= area[:, None, None]
     dq, ddq = derivatives
-    h = np.einsum("pai,pab,pbj->pij", dq, fqq, dq) + np.einsum("pa,paij->pij", fq, ddq)
+    h = np.swapaxes(dq, 1, 2) @ fqq @ dq + np.einsum("pa,paij->pij", fq, ddq)
     return f, g, h
 
 
@@ -96,13 +99,17 @@ def load_density(shell: ShellOfRevolution, load: AxisymmetricLoad, net_pressure:
     vol = volume_density(u, order)
     mom = moment_density(u, order)
     if order == 0:
-        return weight * u[:, 3] - liquid * mom - net_pressure * vol
+        f = weight * u[:, 3] - liquid * mom - net_pressure * vol
+        return f if shell.wall is None else f + wall_density(shell.wall, u, rest["area"], 0)
     f = weight * u[:, 3] - liquid * mom[0] - net_pressure * vol[0]
     g = -liquid * mom[1] - net_pressure * vol[1]
     g[:, 3] += weight
-    if order == 1:
-        return f, g
-    return f, g, -liquid * mom[2] - net_pressure * vol[2]
+    h = None if order == 1 else -liquid * mom[2] - net_pressure * vol[2]
+    if shell.wall is not None:
+        wall = wall_density(shell.wall, u, rest["area"], order)
+        f, g = f + wall[0], g + wall[1]
+        h = None if order == 1 else h + wall[2]
+    return (f, g) if order == 1 else (f, g, h)
 
 
 def _element_vector(meridian: Meridian, point: np.ndarray) -> np.ndarray:
@@ -117,7 +124,8 @@ def _element_matrix(meridian: Meridian, point: np.ndarray) -> sp.csr_matrix:
     """(4 n, 4 n) CSR: the assembled sum of w B^T H B of point Hessians (P, 6, 6)."""
     m, q = meridian.point_weight.shape
     per = (meridian.point_weight.ravel()[:, None, None] * point).reshape(m, q, 6, 6)
-    element = np.einsum("mqai,mqab,mqbj->mij", meridian.point_basis, per, meridian.point_basis)
+    basis = meridian.point_basis
+    element = (np.swapaxes(basis, 2, 3) @ per @ basis).sum(axis=1)
     dofs = meridian.element_dofs
     rows = np.broadcast_to(dofs[:, :, None], element.shape).ravel()
     cols = np.broadcast_to(dofs[:, None, :], element.shape).ravel()

@@ -23,8 +23,8 @@ plane, as :mod:`structure.volume` sums them over triangles). Under gravity g alo
 liquid pressure is p_ref - rho g z (p_ref the pressure level at z = 0, Pa), with the
 potential rho g M_liquid - p_ref V_liquid. Held at a liquid volume V*, p_ref is the Lagrange
 multiplier of V_liquid = V* (the equivalent liquid level is p_ref / (rho g) above z = 0).
-The tank wall does not act on the sheet here (no contact): a sheet pushed beyond the sphere
-counts liquid outside the tank.
+The tank wall acts through its own barrier (:mod:`~structure.axisymmetric.wall`), which keeps
+the sheet within the band d_hat beyond the sphere: the liquid counted there is the band's.
 
 **Own weight.** rho_m t g Int z dA_0, dA_0 = 2 pi R A dS the rest area.
 

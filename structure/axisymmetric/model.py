@@ -10,25 +10,29 @@ D = E t^3 / (12 (1 - nu^2)) (:attr:`structure.model.Material.flexural_rigidity`)
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Optional
 
 from ..hyperelastic import SaintVenantKirchhoff
 from ..model import Material
 from .meridian import Meridian, RestShape, build_meridian
 from .supports import Admissible, admissible
+from .wall import BarrierWall
 
 
 @dataclass(frozen=True)
 class ShellOfRevolution:
     """meridian : :class:`~structure.axisymmetric.meridian.Meridian`; material :
     :class:`structure.model.Material`; law : the membrane law; support : the rim's, one of
-    :data:`structure.axisymmetric.supports.SUPPORTS`; bending : include the bending energy.
-    ``admissible`` (:class:`~structure.axisymmetric.supports.Admissible`) is derived."""
+    :data:`structure.axisymmetric.supports.SUPPORTS`; bending : include the bending energy;
+    wall : the tank wall's barrier (:class:`~structure.axisymmetric.wall.BarrierWall`), or
+    None (no contact). ``admissible`` (:class:`~structure.axisymmetric.supports.Admissible`) is derived."""
 
     meridian: Meridian
     material: Material
     law: object
     support: str = "clamped"
     bending: bool = True
+    wall: Optional[BarrierWall] = None
     admissible: Admissible = field(init=False, repr=False)
 
     def __post_init__(self):
@@ -56,8 +60,10 @@ class ShellOfRevolution:
 
 def shell_of_revolution(kind: str, radius: float, material: Material, law, elements: int,
                         support: str = "clamped", bending: bool = True, points: int = 4,
-                        pole_ratio: float = 1.0, rim_ratio: float = 1.0) -> ShellOfRevolution:
+                        pole_ratio: float = 1.0, rim_ratio: float = 1.0,
+                        wall: Optional[BarrierWall] = None) -> ShellOfRevolution:
     """The shell of the rest shape ``kind`` (``hemisphere`` or ``disc``) of ``radius`` m on
-    ``elements`` elements (:func:`~structure.axisymmetric.meridian.build_meridian`)."""
+    ``elements`` elements (:func:`~structure.axisymmetric.meridian.build_meridian`), inside
+    ``wall`` (or free)."""
     meridian = build_meridian(RestShape(kind, radius), elements, points, pole_ratio, rim_ratio)
-    return ShellOfRevolution(meridian, material, law, support, bending)
+    return ShellOfRevolution(meridian, material, law, support, bending, wall)

@@ -29,7 +29,8 @@ its pressure maximum).
 
 **Convergence.** The residual ||g|| is measured against the larger of the internal and the
 external force vectors' norms (their difference is the residual), with |V_b - V_b*| /
-(2/3 pi a^3) beside it under volume control; a solve has converged when that is below
+(2/3 pi a^3) beside it under volume control; a start beyond the tank wall's barrier is not
+converged (its energy is infinite); a solve has converged when that is below
 ``tolerance``, or, once it is below ``floor``, when a full step moved no node by more than
 ``step_tolerance`` a: the state is stored in absolute coordinates, so the residual has a
 round-off floor of about 1e-16 E / q for a load q per area (1e-7 for a plate at w0 / t =
@@ -158,6 +159,9 @@ def _pressure_controlled(shell, load, state, settings):
     residuals, small_step, converged = [], False, False
     for iteration in range(settings.max_iterations + 1):
         ev = evaluate(shell, load, adm.state(y), mu)
+        if ev.hessian is None:                   # beyond the wall's barrier: no equilibrium
+            converged = False
+            break
         g, scale = _reduced(shell, ev)
         residuals.append(float(np.linalg.norm(g) / scale))
         converged = _done(residuals, small_step, settings)
@@ -225,6 +229,9 @@ def _volume_controlled(shell, load, state, mu, settings):
     residuals, small_step, converged = [], False, False
     for iteration in range(settings.max_iterations + 1):
         ev = evaluate(shell, load, adm.state(y), mu)
+        if ev.hessian is None:
+            converged = False
+            break
         g, scale = _reduced(shell, ev)
         residuals.append(float(np.hypot(np.linalg.norm(g) / scale,
                                         (ev.volume - target) / v_scale)))
@@ -279,8 +286,10 @@ def path(shell: ShellOfRevolution, loads: Sequence[AxisymmetricLoad],
             a, b = out[-2], out[-1]
             da = _parameter(loads[len(out) - 1]) - _parameter(loads[len(out) - 2])
             ratio = (_parameter(load) - _parameter(loads[len(out) - 1])) / da if da else 0.0
-            state = b.state + ratio * (b.state - a.state)
-            mu = (b.pressure - b.pressure_level) \
-                + ratio * ((b.pressure - b.pressure_level) - (a.pressure - a.pressure_level))
+            ahead = b.state + ratio * (b.state - a.state)
+            if np.isfinite(evaluate(shell, load, ahead, 0.0, 0).energy):
+                state = ahead                # else from the last (beyond the tank wall)
+                mu = (b.pressure - b.pressure_level) + ratio * (
+                    (b.pressure - b.pressure_level) - (a.pressure - a.pressure_level))
         out.append(equilibrium(shell, load, state, mu, settings))
     return out
