@@ -14,7 +14,7 @@ from structure.axisymmetric.continuation import tank_volume, trace
 from structure.axisymmetric.energy import evaluate
 from structure.axisymmetric.fill_drain import leg
 from structure.axisymmetric.wall import (BarrierWall, barrier_wall, distance, pulled_inside,
-                                         wall_density, _barrier)
+                                         wall_density, barrier)
 from structure.model import Material
 
 E, T, A, G = MEMBRANE_YOUNGS_MODULUS, MEMBRANE_THICKNESS, TANK_RADIUS, STANDARD_GRAVITY
@@ -42,18 +42,18 @@ def test_the_wall_barrier_is_c2_and_exact():
     (1e-12). The barrier's gradient and Hessian in the local variables are the energy's and
     the gradient's central differences (1e-6)."""
     d_hat = 1e-5
-    edge = _barrier(np.array([d_hat * (1 - 1e-9)]), d_hat, 2)
+    edge = barrier(np.array([d_hat * (1 - 1e-9)]), d_hat, 2)
     assert abs(edge[0][0]) < 1e-12 * d_hat**2 and abs(edge[1][0]) < 1e-12 * d_hat
     assert abs(edge[2][0]) < 1e-6
     d = np.array([0.1, 0.5, 0.9]) * d_hat
-    b, b1, b2 = _barrier(d, d_hat, 2)
+    b, b1, b2 = barrier(d, d_hat, 2)
     h = 1e-6 * d_hat
-    bp, bp1, _ = _barrier(d + h, d_hat, 2)
-    bm, bm1, _ = _barrier(d - h, d_hat, 2)
+    bp, bp1, _ = barrier(d + h, d_hat, 2)
+    bm, bm1, _ = barrier(d - h, d_hat, 2)
     assert np.allclose((bp - bm) / (2 * h), b1, rtol=1e-6)
     assert np.allclose((bp1 - bm1) / (2 * h), b2, rtol=1e-6)
-    assert _barrier(np.array([1e-12 * d_hat]), d_hat, 0)[0][0] > 20 * d_hat**2
-    assert np.isinf(_barrier(np.array([0.0, -d_hat]), d_hat, 0)[0]).all()
+    assert barrier(np.array([1e-12 * d_hat]), d_hat, 0)[0][0] > 20 * d_hat**2
+    assert np.isinf(barrier(np.array([0.0, -d_hat]), d_hat, 0)[0]).all()
     wall = barrier_wall(A, 2000.0, 1e-4)
     assert wall.contact_pressure(0.5 * wall.tolerance) == pytest.approx(2000.0, rel=1e-12)
     with pytest.raises(ValueError, match="tolerance"):
@@ -150,3 +150,92 @@ def test_fill_and_drain_snap_with_hysteresis():
     assert levels["fill", 0.001] - levels["drain", 0.001] > 100.0
     for f in (0.0, 0.01, 0.05):
         assert abs(levels["fill", f] - levels["drain", f]) < 1e-6 * LEVEL
+
+
+# -- stability to each circumferential wave number --------------------------------------------
+
+def test_the_harmonics_n0_is_the_axisymmetric_hessian():
+    """The surface energy behind the harmonics (membrane from C, rotation-based bending from
+    U^-1 b, the liquid and pressure by their flux densities), differentiated twice in the
+    jet by complex step and central difference, gives at n = 0 with V = 0 the axisymmetric
+    Hessian of the meridian's energy (assembled analytically) at a perturbed, loaded,
+    non-equilibrium hemisphere, for the incompressible law and Saint Venant-Kirchhoff, to
+    1e-6 of its largest entry (measured 4e-8 and 1.4e-8)."""
+    from structure.axisymmetric.harmonics import axisymmetric_hessian
+    rng = np.random.default_rng(0)
+    for name, nu in (("neo-hookean", 0.5), ("saint-venant-kirchhoff", 0.3)):
+        material = Material(T, MEMBRANE_DENSITY, E, nu)
+        shell = shell_of_revolution("hemisphere", A, material, law_of(material, name), 12,
+                                    rim_ratio=0.5)
+        load = AxisymmetricLoad(pressure=-3000.0, pressure_level=200.0,
+                                liquid_density=WATER_DENSITY, gravity=G)
+        free = shell.admissible.free(shell.meridian.rest_state)
+        x = shell.admissible.state(free + 0.01 * rng.standard_normal(free.shape))
+        exact = evaluate(shell, load, x, load.net_pressure).hessian.toarray()
+        surface = axisymmetric_hessian(shell, x, WATER_DENSITY * G, load.net_pressure)
+        nodes = np.arange(shell.meridian.nodes)[:, None] * 6
+        pick = (nodes + np.array([0, 1, 4, 5])).ravel()          # U, U', W, W' = r, r', z, z'
+        surface = surface.toarray()[np.ix_(pick, pick)]
+        assert np.abs(surface - exact).max() < 1e-6 * np.abs(exact).max()
+
+
+def test_zoelly_sphere_buckles_at_the_classical_pressure_in_every_harmonic():
+    """A complete spherical shell (the hemisphere on its mirror plane; Saint Venant-Kirchhoff,
+    nu = 0.3, R/t = 100, 48 elements) under uniform external pressure bifurcates at Zoelly's
+    classical pressure p_cl = 2 E (t/R)^2 / sqrt(3 (1 - nu^2)) (Zoelly 1915; Timoshenko &
+    Gere, *Theory of Elastic Stability*, 1961, sec. 11.5), degenerate in the circumferential
+    wave number: every n from 2 to 17 is stable at 0.98 p_cl and unstable at 1.02 p_cl
+    (within 2 %), up to the critical degree l_cr, l(l + 1) = sqrt(12 (1 - nu^2)) R / t
+    (l_cr = 17.7), while n = 24, beyond it, is still stable at 1.02 p_cl."""
+    from structure.axisymmetric.harmonics import stability
+    from structure.hyperelastic import SaintVenantKirchhoff
+    radius, nu, young, ratio = 1.0, 0.3, 1e9, 100.0
+    material = Material(radius / ratio, 1000.0, young, nu)
+    shell = shell_of_revolution("hemisphere", radius, material, SaintVenantKirchhoff(young, nu),
+                                48, support="symmetric")
+    classical = 2 * young / ratio**2 / np.sqrt(3 * (1 - nu**2))
+    degree = 0.5 * (np.sqrt(1 + 4 * np.sqrt(12 * (1 - nu**2)) * ratio) - 1)
+    assert 17 < degree < 18
+    waves = list(range(2, 18)) + [24]
+    for factor, unstable in ((0.98, False), (1.02, True)):
+        result = equilibrium(shell, AxisymmetricLoad(pressure=-factor * classical))
+        assert result.converged
+        table = stability(shell, result.state, 0.0, -factor * classical, waves)
+        assert np.all((table.eigenvalue[:-1] < 0) == unstable)
+        assert np.all((table.negative[:-1] > 0) == unstable)
+        assert table.eigenvalue[-1] > 0 and table.negative[-1] == 0
+
+
+def test_the_filling_diaphragm_starts_to_fold_with_nine_lobes():
+    """Filling the Table 4.1 diaphragm, the axisymmetric branch loses its stability to a
+    circumferential harmonic between tank fractions 0.025 and 0.05 (the inverted dimple's
+    hoop compression): on 48 and 64 elements the onset, located by regula falsi to 1e-4, is at
+    the same fraction within 2 % (measured 0.0384 to 0.0390 on 48 to 96 elements) with the same
+    number of lobes, 9 (the soft n = 1 harmonic, a sideways shift of the dimple that the sphere
+    would leave neutral but for gravity and the rim, stays stable on these grids; on 32
+    elements its eigenvalue is -6e3 1/s^2 at 0.025, a grid error); just below it every harmonic n = 1..30 is stable, at it the critical
+    harmonic's lowest eigenvalue is negative and the others' above it, and its mode is an
+    eigenvector (K phi = lambda M phi to 1e-8 of |K phi|)."""
+    from structure.axisymmetric.folding import onset_of_folding, stability_table
+    from structure.axisymmetric.harmonics import admissible_harmonic, harmonic_stiffness
+    found = []
+    for elements in (48, 64):
+        shell = _diaphragm(elements)
+        rest = equilibrium(shell, _water())
+        fill = leg(shell, _water(), rest, [0.0, 0.025, 0.05])
+        tables = stability_table(shell, _water(), fill)
+        assert tables[1].stable and not tables[2].stable
+        onset = onset_of_folding(shell, _water(), fill, tables)
+        assert onset is not None and onset.bracket[1] - onset.bracket[0] < 1e-4
+        found.append((onset.tank_fraction, onset.lobes))
+    (f48, n48), (f64, n64) = found
+    assert n48 == n64 == 9
+    assert 0.025 < f64 < 0.05 and abs(f48 / f64 - 1) < 0.02
+    stiffness = harmonic_stiffness(shell, onset.state, WATER_DENSITY * G,
+                                   -onset.level)
+    t = admissible_harmonic(shell, onset.lobes)
+    k, m = t.T @ stiffness.stiffness(onset.lobes) @ t, t.T @ stiffness.mass @ t
+    phi = t.T @ onset.mode
+    value = (phi @ k @ phi) / (phi @ m @ phi)
+    assert value < 0
+    assert np.linalg.norm(k @ phi - value * (m @ phi)) < 1e-8 * np.linalg.norm(k @ phi)

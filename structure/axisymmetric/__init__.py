@@ -15,10 +15,15 @@ held volume (bordered Newton); :mod:`.fields` reads the stretches, resultants, s
 moments off a state. The tank wall is a smooth barrier (:mod:`.wall`); :mod:`.continuation`
 follows the equilibria by pseudo-arc-length in the liquid's volume through its limit points,
 and :mod:`.fill_drain` fills and drains the tank, snapping where a leg meets one.
+:mod:`.harmonics` gives the second variation for each circumferential wave number n (as
+BOSOR4 does), and :mod:`.folding` the stability table of a leg and the onset of folding with
+its number of lobes.
 """
 from .continuation import ContinuationSettings, EquilibriumCurve, trace
 from .fields import meridian_fields
 from .fill_drain import Leg, leg
+from .folding import Onset, onset_of_folding, stability_table
+from .harmonics import HarmonicStability, stability
 from .laws import law_of
 from .loads import AxisymmetricLoad
 from .meridian import RestShape, build_meridian
@@ -27,6 +32,7 @@ from .solve import AxisymmetricEquilibrium, NewtonSettings, equilibrium, path
 from .wall import BarrierWall, barrier_wall
 
 __all__ = ["AxisymmetricEquilibrium", "AxisymmetricLoad", "BarrierWall", "ContinuationSettings",
-           "EquilibriumCurve", "Leg", "NewtonSettings", "RestShape", "ShellOfRevolution",
+           "EquilibriumCurve", "HarmonicStability", "Leg", "Onset", "NewtonSettings", "RestShape", "ShellOfRevolution",
            "barrier_wall", "build_meridian", "equilibrium", "law_of", "leg", "meridian_fields",
-           "path", "shell_of_revolution", "trace"]
+           "onset_of_folding", "path", "shell_of_revolution", "stability", "stability_table",
+           "trace"]

@@ -124,7 +124,7 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
     for target in fractions[1:]:
         while sign * (target - f_here) > 1e-15:
             f = f_here + sign * min(size, abs(target - f_here))
-            result = _step(shell, load, here, f, newton)
+            result = next_state(shell, load, here, f, newton)
             if result is not None:
                 here, f_here = result, f
                 size = min(2.0 * size, spacing)
@@ -151,8 +151,10 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
     return Leg(direction, tuple(states), tuple(snaps), True)
 
 
-def _step(shell, load, here: AxisymmetricEquilibrium, fraction: float, newton):
-    """The stable equilibrium at ``fraction`` on ``here``'s branch, or None (module doc)."""
+def next_state(shell: ShellOfRevolution, load: AxisymmetricLoad, here: AxisymmetricEquilibrium,
+               fraction: float, newton: NewtonSettings = NewtonSettings(max_iterations=20)):
+    """The stable equilibrium at tank ``fraction`` on ``here``'s branch, stepped to from
+    ``here`` (module doc), or None."""
     dxdf, dmudf, _ = _tangent(shell, load, here)
     mu = here.pressure - here.pressure_level
     f_here = here.liquid_volume / tank_volume(shell.radius)

@@ -48,7 +48,7 @@ class BarrierWall:
     def contact_pressure(self, distance: np.ndarray) -> np.ndarray:
         """-kappa b'(d) (Pa) at distances ``distance`` (...) m to the barrier's wall."""
         d = np.asarray(distance, dtype=float)
-        return -self.stiffness * _barrier(d, self.tolerance, 1)[1]
+        return -self.stiffness * barrier(d, self.tolerance, 1)[1]
 
 
 def barrier_wall(radius: float, pressure: float, tolerance: float = 1e-5) -> BarrierWall:
@@ -59,7 +59,7 @@ def barrier_wall(radius: float, pressure: float, tolerance: float = 1e-5) -> Bar
     return BarrierWall(radius, d_hat, pressure / (MID_BAND_SLOPE * d_hat))
 
 
-def _barrier(d: np.ndarray, d_hat: float, order: int):
+def barrier(d: np.ndarray, d_hat: float, order: int):
     """b(d) (m^2) and, by ``order``, b' (m) and b'' (1) (module doc); inf for d <= 0."""
     inside = d < d_hat
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -83,7 +83,7 @@ def wall_density(wall: BarrierWall, u: np.ndarray, area: np.ndarray, order: int 
     r, z = u[:, 0], u[:, 3]
     rho = np.hypot(r, z)
     d = wall.radius + wall.tolerance - rho
-    out = _barrier(d, wall.tolerance, order)
+    out = barrier(d, wall.tolerance, order)
     scale = wall.stiffness * area
     f = scale * out[0]
     if order == 0:
