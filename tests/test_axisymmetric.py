@@ -302,3 +302,52 @@ def test_grid_convergence_and_speed_of_the_table_4_1_hemisphere():
     extrapolated = w32 + (w32 - w16) / (2**order - 1)
     assert abs(w32 / extrapolated - 1) < 1e-4
     assert seconds < 0.5
+
+
+def test_pogorelov_mirror_buckling_exponents():
+    """A clamped hemispherical shell (Saint Venant-Kirchhoff, nu = 0.3, R = 1 m, 300
+    elements) whose enclosed volume is reduced by twice the volume of a cap of depth delta
+    (the cap mirrored about its base plane, Pogorelov's isometric inversion, as the start)
+    settles into the mirror-buckled state: its strain energy scales as
+    E t^(5/2) delta^(3/2) / R and the width of its ridge (where the meridional change of
+    curvature exceeds half its peak) as sqrt(t R) (A. V. Pogorelov, *Bendings of Surfaces and
+    Stability of Shells*, AMS 1988; Audoly & Pomeau, *Elasticity and Geometry*, 2010,
+    sec. 10.5). Fitted over delta / R = 0.02 ... 0.16 at t / R = 1e-3 and over a decade of
+    t / R, 4e-4 ... 4e-3, at delta / R = 0.08, the exponents are 3/2, 5/2 and 1/2 within 0.05
+    (measured 1.510, 2.502, 0.497). The energy's constant, E / (E t^(5/2) delta^(3/2) / R),
+    is the same within 3 % over all eight states (measured 3.23 to 3.31): no source readable
+    here gives Pogorelov's constant to check it against (docs/notes/shell-of-revolution-sources.md)."""
+    from structure.hyperelastic import SaintVenantKirchhoff
+    radius, nu, young = 1.0, 0.3, 1e9
+
+    def inverted(thickness, depth):
+        material = Material(thickness, 1000.0, young, nu)
+        shell = shell_of_revolution("hemisphere", radius, material,
+                                    SaintVenantKirchhoff(young, nu), 300)
+        x = shell.meridian.rest_state.reshape(-1, 4).copy()
+        plane = -radius + depth
+        below = x[:, 2] < plane
+        x[below, 2], x[below, 3] = 2 * plane - x[below, 2], -x[below, 3]
+        cap = np.pi * depth**2 * (radius - depth / 3)
+        load = AxisymmetricLoad(volume_target=2 / 3 * np.pi * radius**3 - 2 * cap,
+                                controlled="enclosed")
+        result = equilibrium(shell, load, x.ravel(), 0.0)
+        assert result.converged
+        assert result.state[2] == pytest.approx(plane + depth, abs=0.05 * depth)  # the pole
+        energy = evaluate(shell, AxisymmetricLoad(), result.state, 0.0, 0).energy
+        s = np.linspace(0.0, shell.meridian.shape.length, 4000)
+        kappa = np.abs(meridian_fields(shell, result.state, s)["curvature_change"][:, 0])
+        ridge = s[kappa > 0.5 * kappa.max()]
+        return energy, ridge.max() - ridge.min()
+
+    depths, thicknesses = np.array([0.02, 0.04, 0.08, 0.16]), np.array([4e-4, 1e-3, 2e-3, 4e-3])
+    by_depth = np.array([inverted(1e-3, d) for d in depths])
+    by_thickness = np.array([inverted(t, 0.08) for t in thicknesses])
+    assert np.polyfit(np.log(depths), np.log(by_depth[:, 0]), 1)[0] == pytest.approx(1.5, abs=0.05)
+    assert np.polyfit(np.log(thicknesses), np.log(by_thickness[:, 0]), 1)[0] == \
+        pytest.approx(2.5, abs=0.05)
+    assert np.polyfit(np.log(thicknesses), np.log(by_thickness[:, 1]), 1)[0] == \
+        pytest.approx(0.5, abs=0.05)
+    constant = np.concatenate([by_depth[:, 0] / (young * 1e-3**2.5 * depths**1.5),
+                               by_thickness[:, 0] / (young * thicknesses**2.5 * 0.08**1.5)])
+    assert constant.max() / constant.min() < 1.03
