@@ -581,6 +581,43 @@ def performance_speed_accuracy() -> plt.Figure:
     return fig
 
 
+# -- the shell of revolution ------------------------------------------------------------------
+
+def shell_of_revolution() -> plt.Figure:
+    """The Table 4.1 diaphragm as a shell of revolution: the level along the fill and the
+    drain with the snaps and the onset of folding, and the fill's stability by wave number."""
+    data = load("diaphragm_axisymmetric")
+    rows = data["fills"]
+    f = np.array([r["tank_fraction"] for r in rows])
+    fig, (a, b) = plt.subplots(1, 2, figsize=(WIDTH + 0.6, 4.2), layout="constrained")
+    a.plot(f, [r["level_fill"] for r in rows], "o-", ms=3, label="fill")
+    a.plot(f, [r["level_drain"] for r in rows], "s--", ms=4, mfc="none", label="drain")
+    for snap in data["snaps"]:
+        a.plot([snap["tank_fraction"]] * 2, [snap["level_before"], snap["level_after"]], "k:",
+               lw=1)
+    a.plot([], [], "k:", lw=1, label="snaps")
+    onset = data["onset"]
+    a.axvline(onset["tank_fraction"], color="tab:red", lw=1,
+              label=f"onset of folding, {onset['lobes']} lobes")
+    a.set(xlabel="tank fraction V / (4/3 π R³) (–)", ylabel="pressure level p_ref (Pa)",
+          title=f"Fill and drain, {data['elements']} elements")
+    a.grid(alpha=0.3)
+    a.legend(fontsize=8, loc="upper left")
+    stab = data["stability_map"]
+    waves = np.array(stab["wave_numbers"])
+    values = np.array([[np.nan] * len(waves) if v is None else v for v in stab["fill"]]).T
+    mesh = b.pcolormesh(f, waves, np.sign(values), cmap="RdBu", vmin=-1.6, vmax=1.6,
+                        shading="nearest")
+    b.plot(onset["tank_fraction"], onset["lobes"], "k*", ms=11,
+           label=f"onset: n = {onset['lobes']} at {onset['tank_fraction']:.4f}")
+    b.set(xlabel="tank fraction (–)", ylabel="circumferential wave number n (–)",
+          title="Fill: stable (blue) or unstable (red) to n lobes")
+    b.legend(fontsize=8, loc="upper right")
+    del mesh
+    credit(fig, "diaphragm_axisymmetric")
+    return fig
+
+
 FIGURES: dict[str, Callable[[], plt.Figure]] = {
     "fluid": fluid,
     "membrane_plate": membrane_plate,
@@ -589,6 +626,7 @@ FIGURES: dict[str, Callable[[], plt.Figure]] = {
     "coupling_stability": coupling_stability,
     "coupled_fill": coupled_fill,
     "static_vs_dynamic": static_vs_dynamic,
+    "shell_of_revolution": shell_of_revolution,
     "performance_speed_accuracy": performance_speed_accuracy,
 }
 

@@ -69,6 +69,10 @@ UNITS = {
     "self_contact_nodes": "1", "stress_valid": "1", "peak_stress": "Pa", "peak_strain": "1", "polar_deg": "deg",
     "azimuth_deg": "deg", "event": "1 (text)", "area": "m^2", "triangle": "1",
     "stress_range": "Pa", "mean_stress": "Pa", "count": "1",
+    "meridian_radius": "m", "meridian_height": "m", "meridian_stretch": "1",
+    "meridian_stress": "Pa", "meridian_moment": "N m/m", "meridian_arc_length": "m",
+    "harmonic_eigenvalue": "1/s^2", "wave_number": "1", "critical_wave_number": "1",
+    "stable": "1", "axisymmetric_stable": "1", "lobes": "1",
 }
 
 UNIT_PREFIXES = {"deflection_": "m", "centre_deflection_": "m", "valid_": "1"}
@@ -114,6 +118,12 @@ GROUPS = {
     "events": "the membrane's topology changes over the main sequence, one row each: folds "
               "forming and vanishing, wall contact, self-contact and inversion starting and "
               "ending",
+    "axisymmetric_fill": "a shell-of-revolution run's fill, one record per tank fraction: the "
+                         "level, the stability by circumferential wave number and the "
+                         "meridian's fields",
+    "axisymmetric_drain": "a shell-of-revolution run's drain, as axisymmetric_fill",
+    "axisymmetric_events": "a shell-of-revolution run's snaps and onsets of folding, one row "
+                           "each",
     "cycles": "the rainflow cycles of the stress of the most loaded triangles in a run in "
               "time, one row each",
 }

@@ -30,6 +30,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from fsi.io import axisymmetric_plots as _axisymmetric_plots  # noqa: E402,F401  (registers)
 from fsi.io import modes_plots as _modes_plots  # noqa: E402,F401  (registers its plots)
 from fsi.io import render  # noqa: E402
 from fsi.io.output import read_result  # noqa: E402

@@ -33,9 +33,6 @@ from .model import ShellOfRevolution
 from .solve import AxisymmetricEquilibrium, NewtonSettings, equilibrium
 from .wall import pulled_inside
 
-DIRECTIONS = ("fill", "drain")
-
-
 @dataclass(frozen=True)
 class Snap:
     """A snap at a limit point of the volume: ``direction`` (fill or drain); the limit's
@@ -75,7 +72,8 @@ class Leg:
     reason: str = ""
 
 
-def _volume_load(load: AxisymmetricLoad, radius: float, fraction: float) -> AxisymmetricLoad:
+def volume_load(load: AxisymmetricLoad, radius: float, fraction: float) -> AxisymmetricLoad:
+    """``load`` holding the liquid at tank ``fraction`` of the tank of ``radius`` m."""
     return replace(load, volume_target=fraction * tank_volume(radius), controlled="liquid")
 
 
@@ -99,7 +97,7 @@ def _tangent(shell, load, result: AxisymmetricEquilibrium):
 
 
 def _solve(shell, load, fraction, start, mu, newton):
-    result = equilibrium(shell, _volume_load(load, shell.radius, fraction), start, mu, newton)
+    result = equilibrium(shell, volume_load(load, shell.radius, fraction), start, mu, newton)
     return result if result.converged else None
 
 

@@ -38,7 +38,10 @@ class Onset:
     bracket: tuple
 
 
-def _table(shell, load, result: AxisymmetricEquilibrium, wave_numbers) -> HarmonicStability:
+def harmonic_table(shell: ShellOfRevolution, load: AxisymmetricLoad,
+                   result: AxisymmetricEquilibrium,
+                   wave_numbers: Sequence[int] = WAVE_NUMBERS) -> HarmonicStability:
+    """The stability of the equilibrium ``result`` under ``load`` to each of ``wave_numbers``."""
     return stability(shell, result.state, load.liquid_density * load.gravity,
                      result.pressure - result.pressure_level, wave_numbers)
 
@@ -46,7 +49,7 @@ def _table(shell, load, result: AxisymmetricEquilibrium, wave_numbers) -> Harmon
 def stability_table(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg,
                     wave_numbers: Sequence[int] = WAVE_NUMBERS) -> list[Optional[HarmonicStability]]:
     """The stability of each state of the leg ``path`` (None where it has none)."""
-    return [None if s is None else _table(shell, load, s.equilibrium, wave_numbers)
+    return [None if s is None else harmonic_table(shell, load, s.equilibrium, wave_numbers)
             for s in path.states]
 
 
@@ -79,7 +82,7 @@ def onset_of_folding(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg
                                                                            newton)
             if result is None:
                 break
-            table = _table(shell, load, result, near)
+            table = harmonic_table(shell, load, result, near)
             if table.stable:
                 lo, f_lo, v_lo = result, f, table.eigenvalue.min()
                 v_hi, side = (0.5 * v_hi if side == -1 else v_hi), -1

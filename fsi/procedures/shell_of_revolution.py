@@ -1,0 +1,185 @@
+"""``shell-of-revolution``: the diaphragm as a shell of revolution (:mod:`structure.axisymmetric`):
+its fill and drain along the axisymmetric branch, the snaps between them, its stability to
+each circumferential wave number n at every fill and the onset of folding with its number of
+lobes.
+
+The meridian of the scene's hemisphere (``membrane.thickness``, ``density``,
+``youngs_modulus``, ``poisson_ratio``, ``support``; rubber, nu >= 0.49, takes the
+incompressible neo-Hookean law of E, else ``structure.shell_law``) on ``axisymmetric.elements``
+cubic Hermite elements, inside the tank's wall (a barrier whose band is
+``axisymmetric.wall_band`` a), its own weight and the liquid below it. Fill from rest through
+the tank fractions ``axisymmetric.fills`` and drain back
+(:func:`structure.axisymmetric.study.fill_and_drain`); the stability table by n = 1 ...
+``axisymmetric.wave_numbers``.
+
+Writes, per leg (groups ``axisymmetric_fill`` and ``axisymmetric_drain``, one record per tank
+fraction): the level, whether the state is stable to every harmonic, the lowest eigenvalue of
+each harmonic, the critical wave number, and the meridian at ``axisymmetric.samples`` points
+(radius, height, stretches, membrane stresses, moments); the snaps and the onsets of folding
+as rows of ``axisymmetric_events``. A leg that does not reach its end is a failed run (exit 3).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from structure.axisymmetric import AxisymmetricLoad, barrier_wall, law_of, shell_of_revolution
+from structure.axisymmetric.fields import meridian_fields
+from structure.axisymmetric.study import fill_and_drain
+from structure.stress import INCOMPRESSIBLE_POISSON_RATIO
+
+from fsi.lifecycle import Progress, Run, RunResult
+from fsi.registry import Key, Procedure, Table, register_procedure
+from fsi.text import format_table
+
+
+def _fills(v) -> bool:
+    return (isinstance(v, list) and len(v) >= 2
+            and all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v)
+            and v[0] == 0 and all(0 <= a < b < 1 for a, b in zip(v, v[1:])))
+
+
+AXISYMMETRIC = Table({
+    "elements": Key(int, 256, lambda v: 8 <= v <= 4096, "integer 8..4096",
+                    "cubic Hermite elements on the meridian (256 converges the Table 4.1 "
+                    "diaphragm's level to 2e-5 of rho g a; docs/validation/shell-of-revolution.md)"),
+    "rim_ratio": Key(float, 0.3, lambda v: 0 < v <= 3, "0 < value <= 3",
+                     "the rim element's length over the mean (grading toward the clamp)"),
+    "wall_band": Key(float, 1e-4, lambda v: 0 < v <= 1e-2, "0 < value <= 0.01",
+                     "the tank wall's barrier band beyond the tank radius, as a fraction of it"),
+    "fills": Key(list, [round(0.025 * k, 4) for k in range(40)] + [0.99], _fills,
+                 "increasing tank fractions from 0, each below 1",
+                 "tank fractions V / (4/3 pi R^3) of the fill and, reversed, of the drain"),
+    "wave_numbers": Key(int, 30, lambda v: 1 <= v <= 200, "integer 1..200",
+                        "the stability table's circumferential wave numbers n = 1 ... this"),
+    "samples": Key(int, 121, lambda v: 3 <= v <= 10001, "integer 3..10001",
+                   "points along the meridian at which each state's fields are written"),
+})
+"""[axisymmetric]: the meridian grid, the wall, the fills and the stability table."""
+
+
+def build(setup):
+    """(shell, load) of the scene (module doc)."""
+    table = setup.scene["axisymmetric"]
+    material = setup.model.material
+    law = "neo-hookean" if material.poisson_ratio >= INCOMPRESSIBLE_POISSON_RATIO \
+        else setup.scene["structure"]["shell_law"]
+    gravity = float(np.linalg.norm(setup.liquid.body_acceleration))
+    radius = setup.model.radius
+    scale = setup.liquid.density * gravity * radius
+    shell = shell_of_revolution("hemisphere", radius, material, law_of(material, law),
+                                table["elements"], support=setup.scene["membrane"]["support"],
+                                rim_ratio=table["rim_ratio"],
+                                wall=barrier_wall(radius, scale, table["wall_band"]))
+    load = AxisymmetricLoad(liquid_density=setup.liquid.density, gravity=gravity,
+                            volume_target=0.0)
+    return shell, load
+
+
+def _record(shell, state, table, samples: np.ndarray) -> dict:
+    fields = meridian_fields(shell, state.equilibrium.state, samples)
+    critical = int(np.argmin(table.eigenvalue))
+    return dict(tank_fraction=state.tank_fraction,
+                pressure_level=state.equilibrium.pressure_level,
+                stable=bool(table.stable), axisymmetric_stable=state.negative == 0,
+                harmonic_eigenvalue=table.eigenvalue,
+                critical_wave_number=int(table.wave_numbers[critical]),
+                meridian_radius=fields["radius"], meridian_height=fields["height"],
+                meridian_stretch=fields["stretch"], meridian_stress=fields["stress"],
+                meridian_moment=fields["moment"])
+
+
+def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
+    """Fill, drain and the stability tables (module doc)."""
+    table = setup.scene["axisymmetric"]
+    shell, load = build(setup)
+    fills = np.asarray(table["fills"], dtype=float)
+    end = fills[-1]
+    run = Run(progress, 3)
+
+    def report(part, f):
+        done = f / end if part == "fill" else 1 + (end - f) / end
+        run.progress(done, f"{part}: tank fraction {f:.3f}")
+
+    study = fill_and_drain(shell, load, fills, range(1, table["wave_numbers"] + 1), report)
+    run.progress(3, "stability by wave number")
+    samples = np.linspace(0.0, shell.meridian.shape.length, table["samples"])
+    for name, states, tables in (("axisymmetric_fill", study.fill.states, study.fill_tables),
+                                 ("axisymmetric_drain", study.drain_states,
+                                  study.drain_tables)):
+        for state, stab in zip(states, tables):
+            if state is not None:
+                run.record(name, _record(shell, state, stab, samples))
+    for snap in list(study.fill.snaps) + list(study.drain.snaps):
+        run.record("axisymmetric_events", dict(
+            event=np.bytes_(f"{snap.direction} snaps"), tank_fraction=snap.tank_fraction,
+            pressure_level=snap.level_before, lobes=0))
+    for leg_name, onset in (("fill", study.fill_onset), ("drain", study.drain_onset)):
+        if onset is not None:
+            run.record("axisymmetric_events", dict(
+                event=np.bytes_(f"{leg_name}: folding starts"), tank_fraction=onset.tank_fraction,
+                pressure_level=onset.level, lobes=onset.lobes))
+    if not study.complete:
+        run.stop(study.fill.reason or study.drain.reason)
+    onset = study.fill_onset
+    return run.result(
+        wave_number=np.arange(1, table["wave_numbers"] + 1),
+        meridian_arc_length=samples, elements=table["elements"], radius=shell.radius,
+        onset_tank_fraction=np.nan if onset is None else onset.tank_fraction,
+        onset_lobes=0 if onset is None else onset.lobes,
+        **{f"seconds_{k}": v for k, v in study.seconds.items()})
+
+
+COLUMNS = [("tank fraction", "-"), ("level fill", "Pa"), ("level drain", "Pa"),
+           ("critical n", "-"), ("its omega^2", "1/s^2"), ("fill stable", ""),
+           ("drain stable", "")]
+"""The report's columns: per tank fraction the pressure level p_ref of each leg, the
+circumferential wave number with the lowest eigenvalue on the fill and that eigenvalue
+(omega^2 of the sheet's in-vacuo vibration in that harmonic; negative: unstable), and
+whether each leg's state is stable to every harmonic."""
+FORMATS = [".3f", ".2f", ".2f", "d", ".3g", "", ""]
+
+
+def rows(result: RunResult) -> list[tuple]:
+    """The report's rows (:data:`COLUMNS`), one per tank fraction of the fill."""
+    fill = result.groups["axisymmetric_fill"]
+    drain = result.groups.get("axisymmetric_drain", {})
+    by_fraction = {round(float(f), 9): k for k, f in enumerate(drain.get("tank_fraction", []))}
+    out = []
+    for k, f in enumerate(fill["tank_fraction"]):
+        j = by_fraction.get(round(float(f), 9))
+        eig = np.asarray(fill["harmonic_eigenvalue"][k])
+        out.append((float(f), float(fill["pressure_level"][k]),
+                    None if j is None else float(drain["pressure_level"][j]),
+                    int(fill["critical_wave_number"][k]), float(eig.min()),
+                    "yes" if fill["stable"][k] else "no",
+                    None if j is None else ("yes" if drain["stable"][j] else "no")))
+    return out
+
+
+def headline(result: RunResult) -> None:
+    """The snaps and the onset of folding, one line each."""
+    events = result.groups.get("axisymmetric_events", {})
+    for k, event in enumerate(events.get("event", [])):
+        text = event.decode() if isinstance(event, bytes) else str(event)
+        lobes = int(events["lobes"][k])
+        print(f"{text} at tank fraction {float(events['tank_fraction'][k]):.5f}"
+              + (f", {lobes} lobes" if lobes else "")
+              + f" (level {float(events['pressure_level'][k]):.1f} Pa)")
+
+
+def report(result: RunResult) -> None:
+    """The fill and drain table, then the events."""
+    print(format_table(COLUMNS, rows(result), FORMATS))
+    headline(result)
+
+
+PROCEDURE = register_procedure(Procedure(
+    name="shell-of-revolution",
+    summary="the diaphragm as a shell of revolution: fill and drain on the axisymmetric "
+            "branch, its snaps, its stability to each circumferential wave number and the "
+            "onset of folding with its lobes (converged in the meridian grid, seconds)",
+    run=run_shell_of_revolution,
+    tables={"axisymmetric": AXISYMMETRIC},
+    report=report,
+    headline=headline,
+))
