@@ -139,21 +139,27 @@ def free_scales(shell: ShellOfRevolution) -> np.ndarray:
     return np.where(slope, 1.0, shell.radius)
 
 
-def negative_eigenvalues(matrix: sp.spmatrix) -> Optional[int]:
-    """The number of negative eigenvalues of the symmetric ``matrix`` from the pivots of its
-    symmetric-mode SuperLU factorisation (module doc); None where it is singular or pivoting
-    was needed (the count would not be the inertia)."""
+def factor_symmetric(matrix: sp.spmatrix):
+    """(SuperLU of the symmetric ``matrix`` in symmetric mode, the number of its negative
+    eigenvalues from the signs of its pivots) (module doc); (None, None) where it is singular,
+    and the count None where pivoting was needed (it would not be the inertia)."""
     try:
         lu = splu(sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                   options=dict(SymmetricMode=True))
     except RuntimeError:
-        return None
+        return None, None
     if not np.array_equal(lu.perm_r, lu.perm_c):
-        return None
+        return lu, None
     pivots = lu.U.diagonal()
     if not np.all(np.isfinite(pivots)) or np.any(pivots == 0):
-        return None
-    return int(np.count_nonzero(pivots < 0))
+        return None, None
+    return lu, int(np.count_nonzero(pivots < 0))
+
+
+def negative_eigenvalues(matrix: sp.spmatrix) -> Optional[int]:
+    """The number of negative eigenvalues of the symmetric ``matrix`` (:func:`factor_symmetric`),
+    or None."""
+    return factor_symmetric(matrix)[1]
 
 
 def constrained_negative(k: sp.spmatrix, v: np.ndarray) -> int:
@@ -206,7 +212,7 @@ class _System:
     def jacobian(self, ev) -> sp.csc_matrix:
         """dF/dX (k + 1, k + 2) in unscaled unknowns."""
         t = self.basis
-        k = t.T @ ev.hessian @ t
+        k = ev.free_hessian
         v = t.T @ ev.volume_gradient
         col = sp.csc_matrix(v[:, None])
         return sp.bmat([[k, -col, None], [col.T, None, sp.csc_matrix([[self.tank]])]],
@@ -224,7 +230,7 @@ class _System:
 
 def _stability(system: _System, ev) -> int:
     t = system.basis
-    return constrained_negative(t.T @ ev.hessian @ t, t.T @ ev.volume_gradient)
+    return constrained_negative(ev.free_hessian, t.T @ ev.volume_gradient)
 
 
 def _correct(system: _System, x0: np.ndarray, tangent: np.ndarray, ds: float,

@@ -18,7 +18,8 @@ the element's gradient B^T f_u and Hessian B^T f_uu B (8 x 8), added into the gl
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Optional
 
 import numpy as np
@@ -39,21 +40,35 @@ class Evaluation:
     * energy : Pi (J), inf where the law is undefined (a fold of the meridian, |x'| = 0);
     * internal : (4 n,) the strain energy's gradient (N for r, z entries; N m for r', z');
     * external : (4 n,) the load potential's gradient, the -mu V_b term included;
-    * hessian : (4 n, 4 n) CSR, d2 Pi / dx2, or None when not asked for;
-    * volume : V_b (m^3), the enclosed volume; volume_gradient : (4 n,) dV_b/dx.
+    * element : (m, 8, 8) the elements' Hessians, or None when not asked for (or where the
+      energy is infinite);
+    * volume : V_b (m^3), the enclosed volume; volume_gradient : (4 n,) dV_b/dx;
+    * shell : the shell evaluated (its scatters assemble the Hessians).
     """
 
     energy: float
     internal: np.ndarray
     external: np.ndarray
-    hessian: Optional[sp.csr_matrix]
+    element: Optional[np.ndarray]
     volume: float
     volume_gradient: np.ndarray
+    shell: Optional[ShellOfRevolution] = field(default=None, repr=False)
 
     @property
     def gradient(self) -> np.ndarray:
         """(4 n,): dPi/dx."""
         return self.internal + self.external
+
+    @cached_property
+    def hessian(self) -> Optional[sp.csr_matrix]:
+        """(4 n, 4 n) CSR, d2 Pi / dx2; None without element Hessians."""
+        return None if self.element is None else self.shell.state_scatter.matrix(self.element)
+
+    @cached_property
+    def free_hessian(self) -> Optional[sp.csr_matrix]:
+        """(k, k) CSR, T^T (d2 Pi / dx2) T on the free coordinates; None without element
+        Hessians."""
+        return None if self.element is None else self.shell.free_scatter.matrix(self.element)
 
 
 def rest_at_points(meridian: Meridian) -> dict:
@@ -120,16 +135,12 @@ def _element_vector(meridian: Meridian, point: np.ndarray) -> np.ndarray:
     return np.bincount(meridian.element_dofs.ravel(), element.ravel(), minlength=meridian.size)
 
 
-def _element_matrix(meridian: Meridian, point: np.ndarray) -> sp.csr_matrix:
-    """(4 n, 4 n) CSR: the assembled sum of w B^T H B of point Hessians (P, 6, 6)."""
+def _element_matrices(meridian: Meridian, point: np.ndarray) -> np.ndarray:
+    """(m, 8, 8): each element's sum of w B^T H B of point Hessians (P, 6, 6)."""
     m, q = meridian.point_weight.shape
     per = (meridian.point_weight.ravel()[:, None, None] * point).reshape(m, q, 6, 6)
     basis = meridian.point_basis
-    element = (np.swapaxes(basis, 2, 3) @ per @ basis).sum(axis=1)
-    dofs = meridian.element_dofs
-    rows = np.broadcast_to(dofs[:, :, None], element.shape).ravel()
-    cols = np.broadcast_to(dofs[:, None, :], element.shape).ravel()
-    return sp.csr_matrix((element.ravel(), (rows, cols)), shape=(meridian.size,) * 2)
+    return (np.swapaxes(basis, 2, 3) @ per @ basis).sum(axis=1)
 
 
 def evaluate(shell: ShellOfRevolution, load: AxisymmetricLoad, state: np.ndarray,
@@ -155,7 +166,7 @@ def evaluate(shell: ShellOfRevolution, load: AxisymmetricLoad, state: np.ndarray
     if not np.isfinite(energy) or not np.all(np.isfinite(inner[1])):
         empty = np.zeros(meridian.size)
         return Evaluation(np.inf, empty, empty, None, np.nan, empty)
-    hessian = _element_matrix(meridian, inner[2] + outer[2]) if order == 2 else None
+    element = _element_matrices(meridian, inner[2] + outer[2]) if order == 2 else None
     return Evaluation(energy, _element_vector(meridian, inner[1]),
-                      _element_vector(meridian, outer[1]), hessian, float(weight @ vol[0]),
-                      _element_vector(meridian, vol[1]))
+                      _element_vector(meridian, outer[1]), element, float(weight @ vol[0]),
+                      _element_vector(meridian, vol[1]), shell)

@@ -85,7 +85,7 @@ def _tangent(shell, load, result: AxisymmetricEquilibrium):
     x = np.concatenate([shell.admissible.free(result.state), [mu, 0.0]])
     ev = system.evaluate(x)
     t = shell.admissible.basis
-    k, v = t.T @ ev.hessian @ t, t.T @ ev.volume_gradient
+    k, v = ev.free_hessian, t.T @ ev.volume_gradient
     negative = constrained_negative(k, v)
     col = sp.csc_matrix(v[:, None])
     try:

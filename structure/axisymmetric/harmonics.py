@@ -55,10 +55,10 @@ from typing import Sequence
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import eigsh
+from scipy.sparse.linalg import LinearOperator, eigsh
 
 from ..hyperelastic import HyperelasticLaw, SaintVenantKirchhoff
-from .continuation import negative_eigenvalues
+from .continuation import factor_symmetric
 from .energy import rest_at_points
 from .meridian import local_variables
 from .model import ShellOfRevolution
@@ -70,6 +70,8 @@ FIELDS = 9
 """U, U', U'', V, V', V'', W, W', W''."""
 NODE_DOFS = 6
 """U, U', V, V', W, W' at a node."""
+EIGEN_TOLERANCE = 1e-10
+"""ARPACK's relative accuracy of the lowest eigenvalue (its default, 0, is the machine's)."""
 
 
 def _dot(a, b):
@@ -354,17 +356,25 @@ class HarmonicStability:
 
 def _lowest(k: sp.csr_matrix, m: sp.csr_matrix):
     """(lowest eigenvalue, its mode, negative count) of K phi = lambda M phi, by shift-invert
-    (ARPACK) below the spectrum: the shift -c with K + c M positive definite (the pivots'
-    signs of its symmetric factorisation)."""
-    negative = negative_eigenvalues(k)
+    (ARPACK) at a shift sigma below the spectrum, K - sigma M positive definite by the signs
+    of the pivots of its symmetric factorisation, which then serves the shift-invert too:
+    sigma = -1e-9 s first (s the median of diag K / diag M; its negative pivots are the
+    negative eigenvalues), lowered fourfold from -1e-3 s until none is left. (Raising it by
+    bisection toward the lowest eigenvalue, which speeds the shift-invert's iterations, costs
+    more in factorisations than it saves: measured 2.8 s against 2.3 s for six tables.)"""
     scale = float(np.median(np.abs(k.diagonal()) / np.maximum(m.diagonal(), 1e-300)))
-    shift = 0.0
-    if negative != 0:
-        shift = 1e-3 * scale
-        while negative_eigenvalues(k + shift * m) != 0 and shift < 1e12 * scale:
-            shift *= 4.0
-    sigma = -shift - 1e-6 * scale
-    values, vectors = eigsh(k, k=1, M=m, sigma=sigma, which="LM")
+    sigma = -1e-9 * scale
+    lu, negative = factor_symmetric(k - sigma * m)
+    count = negative
+    while count != 0 and sigma > -1e12 * scale:
+        sigma = min(4.0 * sigma, -1e-3 * scale)
+        lu, count = factor_symmetric(k - sigma * m)
+    if lu is None or count != 0:
+        values, vectors = eigsh(k, k=1, M=m, sigma=sigma, which="LM", tol=EIGEN_TOLERANCE)
+    else:
+        inverse = LinearOperator(k.shape, matvec=lu.solve, dtype=float)
+        values, vectors = eigsh(k, k=1, M=m, sigma=sigma, which="LM", OPinv=inverse,
+                                tol=EIGEN_TOLERANCE)
     return float(values[0]), vectors[:, 0], (-1 if negative is None else negative)
 
 

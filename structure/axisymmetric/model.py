@@ -10,10 +10,14 @@ D = E t^3 / (12 (1 - nu^2)) (:attr:`structure.model.Material.flexural_rigidity`)
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Optional
+
+import scipy.sparse as sp
 
 from ..hyperelastic import SaintVenantKirchhoff
 from ..model import Material
+from .assembly import Scatter, scatter
 from .meridian import Meridian, RestShape, build_meridian
 from .supports import Admissible, admissible
 from .wall import BarrierWall
@@ -56,6 +60,16 @@ class ShellOfRevolution:
     def radius(self) -> float:
         """The rim's radius a (m), the tank's."""
         return self.meridian.shape.radius
+
+    @cached_property
+    def state_scatter(self) -> Scatter:
+        """Element matrices into the (4 n, 4 n) matrix of a state's entries."""
+        return scatter(self.meridian.element_dofs, sp.identity(self.meridian.size))
+
+    @cached_property
+    def free_scatter(self) -> Scatter:
+        """Element matrices into the (k, k) matrix T^T H T of the free coordinates."""
+        return scatter(self.meridian.element_dofs, self.admissible.basis)
 
 
 def shell_of_revolution(kind: str, radius: float, material: Material, law, elements: int,

@@ -167,8 +167,7 @@ def _pressure_controlled(shell, load, state, settings):
         converged = _done(residuals, small_step, settings)
         if converged or iteration == settings.max_iterations:
             break
-        t = adm.basis
-        step, move = _capped(shell, _descent(t.T @ ev.hessian @ t, g), settings)
+        step, move = _capped(shell, _descent(ev.free_hessian, g), settings)
         slope = g @ step
         alpha = 1.0
         if -slope > 1e-12 * max(abs(ev.energy), 1e-300):
@@ -198,7 +197,7 @@ def _constrained_step(shell, ev, g, mu, gap, settings):
     merit Pi(x; 0) + nu |V_b - V_b*|, nu = 2 |mu + dmu| (its directional derivative is
     ``slope``, Nocedal & Wright sec. 18.3), and capped to ``max_move``."""
     t = shell.admissible.basis
-    k, v = t.T @ ev.hessian @ t, t.T @ ev.volume_gradient
+    k, v = ev.free_hessian, t.T @ ev.volume_gradient
     diagonal = sp.diags(np.abs(k.diagonal()) + 1e-300)
     grad0 = g + mu * v                                   # dPi(x; 0)/dy
     tau = 0.0
