@@ -171,6 +171,11 @@ FIXED_ADVICE = {
                     "construction"),
     "slosh": ("coupled", "a slosh mode's frequency, damping and forces need the liquid's "
               "inertia: only the coupled dynamic model has it"),
+    "shell-of-revolution": ("axisymmetric", "the diaphragm's axisymmetric branch, its snaps "
+                            "and its stability to each circumferential wave number, converged "
+                            "in the meridian grid; past the onset of folding it reports where "
+                            "the sheet folds and with how many lobes, and the folded shape "
+                            "needs the 3-D sheet"),
 }
 """Procedures whose model follows from what they compute, with the reason."""
 

@@ -1,13 +1,18 @@
 """The whole axisymmetric fill and drain of a diaphragm: both legs through the requested tank
 fractions (:mod:`~structure.axisymmetric.fill_drain`), the stability table of each by
 circumferential wave number and the onset of folding on each (:mod:`~structure.axisymmetric.folding`),
-with the time each part took. Where the drain holds the fill's state (outside the hysteresis
-of the snaps) its stability table is the fill's, not computed again.
+with the time each part took.
+
+The drain starts at the fill's end on the branch the fill reached after its last snap; that
+branch is stable at every fraction the fill visited on it, so the drain retraces it (its
+states there are the fill's) down to the fill's last landing, and is followed on from there
+by :func:`~structure.axisymmetric.fill_drain.leg`, through its own snaps. Where the drain
+holds the fill's state its stability table is the fill's, not computed again.
 """
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable, Optional, Sequence
 
 import numpy as np
@@ -54,6 +59,20 @@ def _same(a, b, radius: float) -> bool:
         np.abs(a.equilibrium.state - b.equilibrium.state).max() < SAME_STATE * radius
 
 
+def _drain(shell, load, fractions: np.ndarray, fill: Leg, progress) -> Leg:
+    """The drain leg: the fill's states down to its last landing, then followed on (module
+    doc)."""
+    landing = fill.snaps[-1].landing_fraction if fill.snaps else fractions[0]
+    start = int(np.searchsorted(fractions, landing))        # the first fraction past it
+    shared = [replace(state, piece=0) for state in fill.states[start:][::-1]]
+    if start == 0:
+        return Leg("drain", tuple(shared), (), True)
+    below = leg(shell, load, fill.states[start].equilibrium, fractions[start::-1],
+                progress=progress)
+    return Leg("drain", tuple(shared[:-1]) + below.states, below.snaps, below.complete,
+               below.reason)
+
+
 def fill_and_drain(shell: ShellOfRevolution, load: AxisymmetricLoad, fractions: Sequence[float],
                    wave_numbers: Sequence[int] = WAVE_NUMBERS,
                    progress: Optional[Callable[[str, float], None]] = None) -> FillDrainStudy:
@@ -77,8 +96,7 @@ def fill_and_drain(shell: ShellOfRevolution, load: AxisymmetricLoad, fractions: 
     seconds["fill"] = time.perf_counter() - began
     began = time.perf_counter()
     if fill.complete:
-        drain = leg(shell, load, fill.states[-1].equilibrium, fractions[::-1],
-                    progress=report("drain"))
+        drain = _drain(shell, load, fractions, fill, report("drain"))
     else:
         drain = Leg("drain", (), (), False, "the fill did not reach its end")
     seconds["drain"] = time.perf_counter() - began
