@@ -270,6 +270,7 @@ def cmd_sweeps(args) -> int:
 
 
 def cmd_advise(args) -> int:
+    from fsi.analysis import onset
     from fsi.analysis.regime import advise_scene, load_table, work_note
     from fsi.scene import load_scene
 
@@ -280,6 +281,11 @@ def cmd_advise(args) -> int:
     if note:  # said before the wait
         print(f"{scene.name}: {note}...", file=sys.stderr, flush=True)
     model, reasons = advise_scene(scene, args.accuracy, load_table())
+    if onset.applies(scene):
+        print(f"{scene.name}: computing where its diaphragm starts to fold (the shell of "
+              f"revolution, {onset.ELEMENTS} meridian elements, about "
+              f"{onset.SECONDS:.0f} s)...", file=sys.stderr, flush=True)
+        reasons = reasons + onset.onset_lines(scene)
     print(f"{scene['scene']['name']}: {model} model")
     for line in reasons:
         print(f"  {line}")

@@ -222,9 +222,10 @@ def test_suggestion_is_empty_when_nothing_is_close():
 # ------------------------------------------------------------------ advise
 
 def test_advise_says_what_it_computes_before_it_computes(capsys, monkeypatch):
-    """The slosh periods of a fill take seconds (20 s more while the fluid kernels compile):
-    one line on stderr says so before; a fixed answer says nothing."""
-    from fsi.analysis import regime
+    """The slosh periods of a fill take seconds (20 s more while the fluid kernels compile)
+    and the onset of folding about 10 s: one line on stderr says each before it is computed;
+    a fixed answer with nothing to compute (the plate) says nothing."""
+    from fsi.analysis import onset, regime
 
     said = []
 
@@ -233,13 +234,23 @@ def test_advise_says_what_it_computes_before_it_computes(capsys, monkeypatch):
         return regime.Regime(dynamic_pressure=1.0, hydrostatic_pressure=2000.0,
                              fill_time=100.0, slosh_period=1.0, period_fills=(0.1, 0.9),
                              periods=(1.0, 0.9))
+
+    def no_onset(scene):  # the onset's lines, without the shell of revolution
+        said.append(capsys.readouterr().err)
+        return ["the onset"]
     monkeypatch.setattr(regime, "regime", cheap)
+    monkeypatch.setattr(onset, "onset_lines", no_onset)
     assert main(["advise", "thesis-fill"]) == 0
-    assert len(said) == 1 and said[0].count("\n") == 1
+    assert len(said) == 2 and said[0].count("\n") == 1 and said[1].count("\n") == 1
     assert said[0].startswith("thesis-fill: computing the liquid's first slosh period at tank "
                               "fractions 0.1 and 0.9 on its 16-cell fluid grid (under a second")
-    assert capsys.readouterr().out.startswith("thesis-fill: static model")
+    assert said[1].startswith("thesis-fill: computing where its diaphragm starts to fold (the "
+                              "shell of revolution, 128 meridian elements, about 10 s)")
+    out = capsys.readouterr().out
+    assert out.startswith("thesis-fill: static model") and "  the onset" in out
     assert main(["advise", "thesis-static"]) == 0
+    assert said[-1].startswith("thesis-static: computing where its diaphragm starts to fold")
+    assert main(["advise", "thesis-plate"]) == 0
     assert capsys.readouterr().err == ""
 
 

@@ -10,7 +10,7 @@ import pytest
 
 from fsi.cli import main
 from fsi.analysis.regime import FIXED_ADVICE, advise, advise_scene, load_table, predicted, regime
-from fsi.scene import load_scene
+from fsi.scene import load_scene, parse_scene
 from fsi.slosh.modal import tank_modes
 
 ROWS = [dict(pressure_ratio=1e-3, eqn_6_1=0.01, level_difference=-2.0, centre_distance_mm=0.01,
@@ -73,3 +73,26 @@ def test_fsi_advise_command(capsys):
     out = capsys.readouterr().out
     assert out.startswith("thesis-fill: ") and "Pi_p" in out and "Eqn 6.1" in out
     assert main(["advise", "thesis-fill", "--accuracy", "-1"]) == 2
+
+
+def test_advise_says_where_the_diaphragm_starts_to_fold(monkeypatch):
+    """``fsi advise`` adds the shell of revolution's onset of folding for a hemispherical
+    diaphragm (here on 64 meridian elements: tank fraction 0.039, 9 lobes) and places the
+    scene's fills against it: diaphragm-static's 0.1 to 0.7 are all past it; a slosh run at
+    0.02 is below it; the full-inversion scale of thesis-static gives no range; the plate and
+    the shell of revolution itself are not told."""
+    from fsi.analysis import onset
+
+    monkeypatch.setattr(onset, "ELEMENTS", 64)
+    monkeypatch.setattr(onset, "FRACTIONS", (0.0, 0.025, 0.05))
+    scene = load_scene("diaphragm-static")
+    assert onset.fill_range(scene) == (0.1, 0.7)
+    assert onset.fill_range(load_scene("thesis-static")) is None
+    assert onset.fill_range(load_scene("slosh-half")) == (0.5, 0.5)
+    assert not onset.applies(load_scene("thesis-plate"))
+    assert not onset.applies(load_scene("diaphragm-axisymmetric"))
+    first, second = onset.onset_lines(scene)
+    assert "starts to fold at tank fraction 0.03" in first and "9 lobes" in first
+    assert "0.1 to 0.7 are all past it" in second
+    low = parse_scene('[scene]\nprocedure = "slosh"\n[slosh]\nfill = 0.02\n')
+    assert "are below it" in onset.onset_lines(low)[1]

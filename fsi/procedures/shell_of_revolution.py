@@ -20,11 +20,14 @@ as rows of ``axisymmetric_events``. A leg that does not reach its end is a faile
 """
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 
 from structure.axisymmetric import AxisymmetricLoad, barrier_wall, law_of, shell_of_revolution
 from structure.axisymmetric.fields import meridian_fields
 from structure.axisymmetric.study import fill_and_drain
+from structure.model import Material
 from structure.stress import INCOMPRESSIBLE_POISSON_RATIO
 
 from fsi.lifecycle import Progress, Run, RunResult
@@ -57,20 +60,24 @@ AXISYMMETRIC = Table({
 """[axisymmetric]: the meridian grid, the wall, the fills and the stability table."""
 
 
-def build(setup):
-    """(shell, load) of the scene (module doc)."""
-    table = setup.scene["axisymmetric"]
-    material = setup.model.material
+def build(scene, elements: Optional[int] = None, wrinkling: Optional[str] = None):
+    """(shell, load) of the scene (module doc) on ``elements`` meridian elements (the
+    scene's ``axisymmetric.elements`` by default), its membrane's ``wrinkling`` unless
+    given."""
+    table, m = scene["axisymmetric"], scene["membrane"]
+    material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"],
+                        m["wrinkling"] if wrinkling is None else wrinkling)
     law = "neo-hookean" if material.poisson_ratio >= INCOMPRESSIBLE_POISSON_RATIO \
-        else setup.scene["structure"]["shell_law"]
-    gravity = float(np.linalg.norm(setup.liquid.body_acceleration))
-    radius = setup.model.radius
-    scale = setup.liquid.density * gravity * radius
+        else scene["structure"]["shell_law"]
+    liquid = scene["liquid"]
+    gravity = float(np.linalg.norm(liquid["body_acceleration"]))
+    radius = scene["tank"]["radius"]
+    scale = liquid["density"] * gravity * radius
     shell = shell_of_revolution("hemisphere", radius, material, law_of(material, law),
-                                table["elements"], support=setup.scene["membrane"]["support"],
+                                elements or table["elements"], support=m["support"],
                                 rim_ratio=table["rim_ratio"],
                                 wall=barrier_wall(radius, scale, table["wall_band"]))
-    load = AxisymmetricLoad(liquid_density=setup.liquid.density, gravity=gravity,
+    load = AxisymmetricLoad(liquid_density=liquid["density"], gravity=gravity,
                             volume_target=0.0)
     return shell, load
 
@@ -91,7 +98,7 @@ def _record(shell, state, table, samples: np.ndarray) -> dict:
 def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
     """Fill, drain and the stability tables (module doc)."""
     table = setup.scene["axisymmetric"]
-    shell, load = build(setup)
+    shell, load = build(setup.scene)
     fills = np.asarray(table["fills"], dtype=float)
     end = fills[-1]
     run = Run(progress, 3)

@@ -17,7 +17,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from .fill_drain import Leg, leg, volume_load
+from .fill_drain import Leg, LegState, leg, volume_load
 from .folding import WAVE_NUMBERS, Onset, harmonic_table, onset_of_folding, stability_table
 from .loads import AxisymmetricLoad
 from .model import ShellOfRevolution
@@ -119,3 +119,30 @@ def fill_and_drain(shell: ShellOfRevolution, load: AxisymmetricLoad, fractions: 
     return FillDrainStudy(fractions, fill, drain, fill_tables, drain_tables[::-1], fill_onset,
                           drain_onset, seconds)
 
+
+def fill_onset(shell: ShellOfRevolution, load: AxisymmetricLoad, fractions: Sequence[float],
+               wave_numbers: Sequence[int] = WAVE_NUMBERS) -> Optional[Onset]:
+    """The onset of folding of ``shell`` filled from its equilibrium at the first of
+    ``fractions`` through them, the fill stopped at its first unstable state (each state's
+    stability tabulated as it is reached); None where every state is stable or the fill
+    fails."""
+    fractions = np.asarray(fractions, dtype=float)
+    here = equilibrium(shell, volume_load(load, shell.radius, fractions[0]))
+    if not here.converged:
+        return None
+    states = [LegState(float(fractions[0]), here, 0, 0)]
+    tables = [harmonic_table(shell, load, here, wave_numbers)]
+    snaps = 0
+    for a, b in zip(fractions, fractions[1:]):
+        step = leg(shell, load, here, [a, b])
+        if not step.complete:
+            return None
+        snaps += len(step.snaps)
+        state = replace(step.states[-1], piece=snaps)
+        states.append(state)
+        tables.append(harmonic_table(shell, load, state.equilibrium, wave_numbers))
+        if not tables[-1].stable:
+            path = Leg("fill", tuple(states), (), True)
+            return onset_of_folding(shell, load, path, tables, wave_numbers)
+        here = state.equilibrium
+    return None
