@@ -55,7 +55,7 @@ def stability_table(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg,
 
 def onset_of_folding(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg,
                      tables: Sequence[Optional[HarmonicStability]],
-                     wave_numbers: Sequence[int] = WAVE_NUMBERS, tolerance: float = 1e-6,
+                     wave_numbers: Sequence[int] = WAVE_NUMBERS, tolerance: float = 1e-5,
                      newton: NewtonSettings = NewtonSettings()) -> Optional[Onset]:
     """The onset of folding on the leg ``path`` with its stability ``tables`` (module doc),
     to ``tolerance`` in the tank fraction; None where every state is stable."""
