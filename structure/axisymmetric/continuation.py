@@ -271,20 +271,45 @@ def _correct(system: _System, x0: np.ndarray, tangent: np.ndarray, ds: float,
     return None
 
 
-def _limit_point(a: CurvePoint, b: CurvePoint, after: int) -> LimitPoint:
-    """The limit point between ``a`` and ``b``: the extremum of the cubic Hermite
-    interpolant of f(s) from the two points' fractions and slopes df/ds."""
-    h = b.arc_length - a.arc_length
-    f0, f1, d0, d1 = a.tank_fraction, b.tank_fraction, a.tangent[-1] * h, b.tangent[-1] * h
+def _extremum(f0: float, f1: float, d0: float, d1: float) -> tuple[float, float]:
+    """(x, f(x)): the extremum in [0, 1] of the cubic with values f0, f1 and slopes d0, d1
+    (per unit x) at its ends (d0 and d1 of opposite signs)."""
     # f(x) = f0 + d0 x + c2 x^2 + c3 x^3 on x in [0, 1]
     c2 = 3 * (f1 - f0) - 2 * d0 - d1
     c3 = 2 * (f0 - f1) + d0 + d1
     roots = np.roots([3 * c3, 2 * c2, d0]) if abs(c3) > 1e-300 else np.roots([2 * c2, d0])
     real = [r.real for r in np.atleast_1d(roots) if abs(r.imag) < 1e-12 and 0 <= r.real <= 1]
     x = min(real, key=lambda r: abs(r - d0 / (d0 - d1))) if real else d0 / (d0 - d1)
-    f = f0 + d0 * x + c2 * x * x + c3 * x**3
+    return float(x), float(f0 + d0 * x + c2 * x * x + c3 * x**3)
+
+
+def _limit_point(a: CurvePoint, b: CurvePoint, after: int) -> LimitPoint:
+    """The limit point between ``a`` and ``b``: the extremum of the cubic Hermite
+    interpolant of f(s) from the two points' fractions and slopes df/ds."""
+    h = b.arc_length - a.arc_length
+    d0 = a.tangent[-1] * h
+    x, f = _extremum(a.tank_fraction, b.tank_fraction, d0, b.tangent[-1] * h)
     mu = a.net_pressure + x * (b.net_pressure - a.net_pressure)
-    return LimitPoint(after, float(f), float(mu), "maximum" if d0 > 0 else "minimum")
+    return LimitPoint(after, f, float(mu), "maximum" if d0 > 0 else "minimum")
+
+
+def pressure_limit(shell: ShellOfRevolution, load: AxisymmetricLoad,
+                   curve: EquilibriumCurve) -> Optional[LimitPoint]:
+    """The curve's first limit point of the net pressure (a snap under pressure control, as
+    the tank fraction's are under volume control): the extremum of the cubic Hermite
+    interpolant of mu(s) between the first two points where dmu/ds changes sign; its
+    ``tank_fraction`` linear between them. None where mu is monotone."""
+    scale = pressure_scale(shell, load)
+    points = curve.points
+    for k in range(1, len(points)):
+        a, b = points[k - 1], points[k]
+        da, db = a.tangent[-2], b.tangent[-2]
+        if da != 0 and np.sign(da) != np.sign(db):
+            h = b.arc_length - a.arc_length
+            x, mu = _extremum(a.net_pressure, b.net_pressure, da * scale * h, db * scale * h)
+            f = a.tank_fraction + x * (b.tank_fraction - a.tank_fraction)
+            return LimitPoint(k, float(f), mu, "maximum" if da > 0 else "minimum")
+    return None
 
 
 def trace(shell: ShellOfRevolution, load: AxisymmetricLoad, start: np.ndarray,

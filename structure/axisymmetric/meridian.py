@@ -6,7 +6,11 @@ to the rim (S = L), R the distance from the axis and Z the height:
 
 * ``hemisphere`` of radius a hanging below its rim at the equator: R = a sin(S / a),
   Z = -a cos(S / a), L = pi a / 2 (pole at z = -a, rim at r = a, z = 0);
-* ``disc``: the flat disc of radius a in z = 0, R = S, L = a.
+* ``disc``: the flat disc of radius a in z = 0, R = S, L = a;
+* ``cap``: the spherical cap of base radius a on a sphere of radius rho >= a
+  (``sphere_radius``), hanging below its rim: R = rho sin(S / rho),
+  Z = rho (cos alpha - cos(S / rho)), L = rho alpha, sin alpha = a / rho (the hemisphere when
+  rho = a).
 
 **State.** A state is the (4 n,) vector of nodal values [r (m), dr/dS (1), z (m), dz/dS (1)]
 node after node; r and z are interpolated by :func:`structure.axisymmetric.hermite.hermite_basis`.
@@ -30,12 +34,13 @@ regular limits as S -> 0 (:mod:`structure.axisymmetric.kinematics`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
 from .hermite import gauss_rule, hermite_basis
 
-SHAPES = ("hemisphere", "disc")
+SHAPES = ("hemisphere", "disc", "cap")
 """The rest shapes of :class:`RestShape`."""
 DOFS_PER_NODE = 4
 """r, dr/dS, z, dz/dS."""
@@ -46,30 +51,41 @@ R, DR, Z, DZ = range(DOFS_PER_NODE)
 @dataclass(frozen=True)
 class RestShape:
     """A meridian at rest: ``kind`` one of :data:`SHAPES`, ``radius`` a (m), the rim's
-    distance from the axis."""
+    distance from the axis; ``sphere_radius`` rho (m) of a ``cap``."""
 
     kind: str
     radius: float
+    sphere_radius: Optional[float] = None
 
     def __post_init__(self):
         if self.kind not in SHAPES:
             raise ValueError(f"rest shape must be one of {SHAPES}, got {self.kind!r}")
         if not self.radius > 0:
             raise ValueError(f"rest shape radius must be > 0 m, got {self.radius!r}")
+        if self.kind == "cap" and not (self.sphere_radius or 0) >= self.radius:
+            raise ValueError(f"a cap's sphere_radius must be >= its radius {self.radius} m, "
+                             f"got {self.sphere_radius!r}")
+
+    @property
+    def _sphere(self) -> float:
+        return self.sphere_radius if self.kind == "cap" else self.radius
 
     @property
     def length(self) -> float:
         """The meridian's rest arc length L (m) from the pole to the rim."""
-        return 0.5 * np.pi * self.radius if self.kind == "hemisphere" else self.radius
+        if self.kind == "disc":
+            return self.radius
+        return self._sphere * np.arcsin(min(self.radius / self._sphere, 1.0))
 
     def curve(self, arc_length: np.ndarray) -> np.ndarray:
         """(..., 6): R (m), R' (1), R'' (1/m), Z (m), Z' (1), Z'' (1/m) at rest arc lengths
         ``arc_length`` (...) m."""
         s = np.asarray(arc_length, dtype=float)
-        a = self.radius
-        if self.kind == "hemisphere":
-            c, n = np.cos(s / a), np.sin(s / a)
-            return np.stack([a * n, c, -n / a, -a * c, n, c / a], axis=-1)
+        if self.kind != "disc":
+            rho = self._sphere
+            base = np.sqrt(max(rho * rho - self.radius**2, 0.0))      # rho cos(alpha)
+            c, n = np.cos(s / rho), np.sin(s / rho)
+            return np.stack([rho * n, c, -n / rho, base - rho * c, n, c / rho], axis=-1)
         zero = np.zeros_like(s)
         return np.stack([s, zero + 1.0, zero, zero, zero, zero], axis=-1)
 

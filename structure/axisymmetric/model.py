@@ -75,9 +75,11 @@ class ShellOfRevolution:
 def shell_of_revolution(kind: str, radius: float, material: Material, law, elements: int,
                         support: str = "clamped", bending: bool = True, points: int = 4,
                         pole_ratio: float = 1.0, rim_ratio: float = 1.0,
-                        wall: Optional[BarrierWall] = None) -> ShellOfRevolution:
-    """The shell of the rest shape ``kind`` (``hemisphere`` or ``disc``) of ``radius`` m on
-    ``elements`` elements (:func:`~structure.axisymmetric.meridian.build_meridian`), inside
-    ``wall`` (or free)."""
-    meridian = build_meridian(RestShape(kind, radius), elements, points, pole_ratio, rim_ratio)
+                        wall: Optional[BarrierWall] = None,
+                        sphere_radius: Optional[float] = None) -> ShellOfRevolution:
+    """The shell of the rest shape ``kind`` (``hemisphere``, ``disc`` or ``cap``, whose
+    sphere has ``sphere_radius`` m) of ``radius`` m on ``elements`` elements
+    (:func:`~structure.axisymmetric.meridian.build_meridian`), inside ``wall`` (or free)."""
+    meridian = build_meridian(RestShape(kind, radius, sphere_radius), elements, points,
+                              pole_ratio, rim_ratio)
     return ShellOfRevolution(meridian, material, law, support, bending, wall)
