@@ -53,10 +53,10 @@ RICHARDSON = (96, 192, 384)
 SMOKE_RICHARDSON = (16, 32, 64)
 #: the grid of the whole run, and of --smoke
 RUN_GRID = 256
-SMOKE_RUN_GRID = 32
+SMOKE_RUN_GRID = 48
 #: the tank fractions of both legs, and of --smoke
 FRACTIONS = tuple(np.round(np.concatenate([np.linspace(0.0, 0.975, 40), [0.99]]), 4))
-SMOKE_FRACTIONS = (0.0, 0.025, 0.05, 0.075)
+SMOKE_FRACTIONS = (0.0, 0.025, 0.05, 0.95, 0.975)
 #: the wall's band (fraction of a) and the element ratio at the rim
 WALL_BAND = 1e-4
 RIM_RATIO = 0.3
