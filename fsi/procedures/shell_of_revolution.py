@@ -44,7 +44,8 @@ def _fills(v) -> bool:
 AXISYMMETRIC = Table({
     "elements": Key(int, 256, lambda v: 8 <= v <= 4096, "integer 8..4096",
                     "cubic Hermite elements on the meridian (256 converges the Table 4.1 "
-                    "diaphragm's level to 2e-5 of rho g a; docs/validation/shell-of-revolution.md)"),
+                    "diaphragm's level to 2e-5 of rho g a; "
+                    "docs/validation/shell-of-revolution.md)"),
     "rim_ratio": Key(float, 0.3, lambda v: 0 < v <= 3, "0 < value <= 3",
                      "the rim element's length over the mean (grading toward the clamp)"),
     "wall_band": Key(float, 1e-4, lambda v: 0 < v <= 1e-2, "0 < value <= 0.01",

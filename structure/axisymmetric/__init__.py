@@ -32,7 +32,8 @@ from .solve import AxisymmetricEquilibrium, NewtonSettings, equilibrium, path
 from .wall import BarrierWall, barrier_wall
 
 __all__ = ["AxisymmetricEquilibrium", "AxisymmetricLoad", "BarrierWall", "ContinuationSettings",
-           "EquilibriumCurve", "HarmonicStability", "Leg", "Onset", "NewtonSettings", "RestShape", "ShellOfRevolution",
+           "EquilibriumCurve", "HarmonicStability", "Leg", "Onset", "NewtonSettings",
+           "RestShape", "ShellOfRevolution",
            "barrier_wall", "build_meridian", "equilibrium", "law_of", "leg", "meridian_fields",
            "onset_of_folding", "path", "shell_of_revolution", "stability", "stability_table",
            "trace"]

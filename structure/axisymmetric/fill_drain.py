@@ -4,11 +4,11 @@ A leg passes through requested tank fractions in order. From an equilibrium it s
 next fraction by the held-volume Newton (:func:`~structure.axisymmetric.solve.equilibrium`)
 from the tangent's predictor (x + df dx/df, dx/df from the bordered tangent; nodes it carries
 beyond the tank wall pulled back, :func:`~structure.axisymmetric.wall.pulled_inside`, and the
-whole halved toward x until it is inside), and accepts the
-step where Newton converged, the state is stable (n = 0, under the held volume) and its
-pressure is the predictor's (within half the predicted change, or 1e-3 p_s, p_s = rho g a:
-a snap to another branch changes the pressure at once); else the step is halved, down to ``smallest``. Below
-that the curve is followed by arc length (:func:`~structure.axisymmetric.continuation.trace`)
+whole halved toward x until it is inside), and accepts the step where Newton converged,
+the state is stable (n = 0, under the held volume) and its pressure is the predictor's
+(within half the predicted change, or 1e-3 p_s, p_s = rho g a: a snap to another branch
+changes the pressure at once); else the step is halved, down to ``smallest``. Below that the
+curve is followed by arc length (:func:`~structure.axisymmetric.continuation.trace`)
 to its limit point of the volume, where a filling (draining) sheet cannot stay on its branch
 and snaps: just past the limit (by ``jump``) the held-volume Newton, descending its merit,
 finds the stable state the sheet lands in, and the leg goes on from there. The fill leg runs
@@ -21,7 +21,6 @@ from dataclasses import dataclass, replace
 from typing import Sequence
 
 import numpy as np
-
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
@@ -32,6 +31,7 @@ from .loads import AxisymmetricLoad
 from .model import ShellOfRevolution
 from .solve import AxisymmetricEquilibrium, NewtonSettings, equilibrium
 from .wall import pulled_inside
+
 
 @dataclass(frozen=True)
 class Snap:
@@ -51,7 +51,9 @@ class Snap:
 
 @dataclass(frozen=True)
 class LegState:
-    """A leg's state at a requested tank fraction: the equilibrium, the snaps before it (``piece``), and its stability under the held volume (``negative``, 0 stable)."""
+    """A leg's state at a requested tank fraction: the equilibrium, the number of snaps
+    before it (``piece``), and its stability under the held volume (``negative``, 0
+    stable)."""
 
     tank_fraction: float
     equilibrium: AxisymmetricEquilibrium
@@ -62,8 +64,8 @@ class LegState:
 @dataclass(frozen=True)
 class Leg:
     """One leg: ``direction``; ``states``, the :class:`LegState` at the requested fractions
-    (None at one the leg jumped over in a snap);
-    ``snaps``; ``complete`` when it reached its last fraction (else ``reason``)."""
+    (None at one the leg jumped over in a snap); ``snaps``; ``complete`` when it reached its
+    last fraction (else ``reason``)."""
 
     direction: str
     states: tuple
@@ -109,8 +111,8 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
     ``load`` (its liquid, gravity and pressure) from the equilibrium ``start`` (module doc).
     The held-volume Newton steps from the tangent's predictor, by at most the fractions'
     spacing, halving the step where it fails or lands on an unstable state and doubling it
-    after a success; below ``smallest`` (tank fraction) the curve is followed by arc length to the limit point, where the sheet
-    snaps, ``jump`` past it."""
+    after a success; below ``smallest`` (tank fraction) the curve is followed by arc length
+    to the limit point, where the sheet snaps, ``jump`` past it."""
     fractions = np.asarray(fractions, dtype=float)
     direction = "fill" if fractions[-1] > fractions[0] else "drain"
     sign = 1.0 if direction == "fill" else -1.0

@@ -3,8 +3,10 @@ circumferential wave number (:mod:`~structure.axisymmetric.harmonics`), and the 
 folding, the first tank fraction at which some harmonic loses stability, located between the
 leg's last stable and first unstable state by regula falsi (Illinois) on the lowest
 eigenvalue of the harmonics unstable at the unstable end and their neighbours (the
-states between found on the leg's branch by :func:`~structure.axisymmetric.fill_drain.next_state`
-from the nearer end of the bracket). Its wave number is the predicted number of lobes; its mode is the fold's shape.
+states between found on the leg's branch by
+:func:`~structure.axisymmetric.fill_drain.next_state` from the bracket's stable end, else from
+its unstable one). Its wave number is the predicted number of lobes; its
+mode is the fold's shape.
 """
 from __future__ import annotations
 
@@ -47,7 +49,8 @@ def harmonic_table(shell: ShellOfRevolution, load: AxisymmetricLoad,
 
 
 def stability_table(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg,
-                    wave_numbers: Sequence[int] = WAVE_NUMBERS) -> list[Optional[HarmonicStability]]:
+                    wave_numbers: Sequence[int] = WAVE_NUMBERS
+                    ) -> list[Optional[HarmonicStability]]:
     """The stability of each state of the leg ``path`` (None where it has none)."""
     return [None if s is None else harmonic_table(shell, load, s.equilibrium, wave_numbers)
             for s in path.states]

@@ -29,7 +29,8 @@ class ShellOfRevolution:
     :class:`structure.model.Material`; law : the membrane law; support : the rim's, one of
     :data:`structure.axisymmetric.supports.SUPPORTS`; bending : include the bending energy;
     wall : the tank wall's barrier (:class:`~structure.axisymmetric.wall.BarrierWall`), or
-    None (no contact). ``admissible`` (:class:`~structure.axisymmetric.supports.Admissible`) is derived."""
+    None (no contact). ``admissible``
+    (:class:`~structure.axisymmetric.supports.Admissible`) is derived."""
 
     meridian: Meridian
     material: Material

@@ -1,6 +1,7 @@
 """The whole axisymmetric fill and drain of a diaphragm: both legs through the requested tank
 fractions (:mod:`~structure.axisymmetric.fill_drain`), the stability table of each by
-circumferential wave number and the onset of folding on each (:mod:`~structure.axisymmetric.folding`),
+circumferential wave number and the onset of folding on each
+(:mod:`~structure.axisymmetric.folding`),
 with the time each part took.
 
 The drain starts at the fill's end on the branch the fill reached after its last snap; that
