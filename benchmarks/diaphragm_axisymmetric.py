@@ -169,7 +169,8 @@ def main(argv=None) -> dict:
 
     def onset(o):
         return None if o is None else dict(tank_fraction=o.tank_fraction, lobes=o.lobes,
-                                           level=o.level, bracket=list(o.bracket))
+                                           level=o.level, bracket=list(o.bracket),
+                                           resolved=o.resolved)
 
     out = dict(elements=shell.meridian.nodes - 1, complete=study.complete,
                seconds=round(seconds, 2),

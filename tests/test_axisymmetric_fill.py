@@ -228,6 +228,7 @@ def test_the_filling_diaphragm_starts_to_fold_with_nine_lobes():
         assert tables[1].stable and not tables[2].stable
         onset = onset_of_folding(shell, _water(), fill, tables)
         assert onset is not None and onset.bracket[1] - onset.bracket[0] < 1e-4
+        assert onset.resolved
         found.append((onset.tank_fraction, onset.lobes))
     (f48, n48), (f64, n64) = found
     assert n48 == n64 == 9

@@ -68,9 +68,11 @@ def onset_lines(scene) -> list[str]:
     if onset is None:
         return [f"the shell of revolution ({ELEMENTS} meridian elements) stays axisymmetric "
                 f"up to tank fraction {FRACTIONS[-1]:g} filling from rest"]
-    lines = [f"the diaphragm starts to fold at tank fraction {onset.tank_fraction:.4f}, with "
-             f"{onset.lobes} lobes (the shell of revolution on {ELEMENTS} meridian elements, "
-             "filling from rest; docs/models/shell-of-revolution.md)"]
+    at = f"at tank fraction {onset.tank_fraction:.4f}" if onset.resolved else \
+        f"between tank fractions {onset.bracket[0]:.3f} and {onset.bracket[1]:.3f}"
+    lines = [f"the diaphragm starts to fold {at}, with {onset.lobes} lobes (the shell of "
+             f"revolution on {ELEMENTS} meridian elements, filling from rest; "
+             "docs/models/shell-of-revolution.md)"]
     span = fill_range(scene)
     if span is not None:
         low, high = span

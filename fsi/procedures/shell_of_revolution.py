@@ -123,9 +123,12 @@ def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
             pressure_level=snap.level_before, lobes=0))
     for leg_name, onset in (("fill", study.fill_onset), ("drain", study.drain_onset)):
         if onset is not None:
+            where = "" if onset.resolved else \
+                f" between {onset.bracket[0]:.4f} and {onset.bracket[1]:.4f}"
             run.record("axisymmetric_events", dict(
-                event=np.bytes_(f"{leg_name}: folding starts"), tank_fraction=onset.tank_fraction,
-                pressure_level=onset.level, lobes=onset.lobes))
+                event=np.bytes_(f"{leg_name}: folding starts{where}"),
+                tank_fraction=onset.tank_fraction, pressure_level=onset.level,
+                lobes=onset.lobes))
     if not study.complete:
         run.stop(study.fill.reason or study.drain.reason)
     onset = study.fill_onset

@@ -5,24 +5,26 @@ leg's last stable and first unstable state by regula falsi (Illinois) on the low
 eigenvalue of the harmonics unstable at the unstable end and their neighbours (the
 states between found on the leg's branch by
 :func:`~structure.axisymmetric.fill_drain.next_state` from the bracket's stable end, else from
-its unstable one). Its wave number is the predicted number of lobes; its
+its unstable one, else by Newton from the two interpolated). Its wave number is the predicted number of lobes; its
 mode is the fold's shape.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Optional, Sequence
 
 import numpy as np
 
-from .fill_drain import Leg, next_state
+from .fill_drain import Leg, next_state, volume_load
 from .harmonics import HarmonicStability, stability
 from .loads import AxisymmetricLoad
 from .model import ShellOfRevolution
-from .solve import AxisymmetricEquilibrium, NewtonSettings
+from .solve import AxisymmetricEquilibrium, NewtonSettings, equilibrium
 
 WAVE_NUMBERS = tuple(range(1, 31))
 """The circumferential wave numbers of the stability table."""
+RESOLVED = 1e-3
+"""An onset's bracket (tank fraction) no wider than this is resolved."""
 
 
 @dataclass(frozen=True)
@@ -30,7 +32,9 @@ class Onset:
     """The onset of folding: ``tank_fraction``; ``lobes``, the wave number that loses
     stability there; ``level`` (Pa), the liquid's pressure level; ``state`` (4 n,), the
     axisymmetric equilibrium; ``mode`` (6 n,), the critical harmonic's shape (nodal U, U', V,
-    V', W, W', unit mass); ``bracket`` the last stable and first unstable fractions."""
+    V', W, W', unit mass); ``bracket`` the last stable and first unstable fractions (the
+    onset is the latter); ``resolved`` whether the bracket was narrowed to :data:`RESOLVED`
+    (else the states between could not be found, and the onset is only known to lie in it)."""
 
     tank_fraction: float
     lobes: int
@@ -39,6 +43,10 @@ class Onset:
     mode: np.ndarray
     bracket: tuple
 
+    @property
+    def resolved(self) -> bool:
+        return abs(self.bracket[1] - self.bracket[0]) <= RESOLVED
+
 
 def harmonic_table(shell: ShellOfRevolution, load: AxisymmetricLoad,
                    result: AxisymmetricEquilibrium,
@@ -46,6 +54,17 @@ def harmonic_table(shell: ShellOfRevolution, load: AxisymmetricLoad,
     """The stability of the equilibrium ``result`` under ``load`` to each of ``wave_numbers``."""
     return stability(shell, result.state, load.liquid_density * load.gravity,
                      result.pressure - result.pressure_level, wave_numbers)
+
+
+def _between(shell, load, lo: AxisymmetricEquilibrium, hi: AxisymmetricEquilibrium,
+             w: float, fraction: float, newton: NewtonSettings):
+    """The held-volume equilibrium at ``fraction`` from the states ``lo`` and ``hi``
+    interpolated at ``w`` (a bracket too wide for the tangent's step), or None."""
+    start = lo.state + w * (hi.state - lo.state)
+    mu = (1 - w) * (lo.pressure - lo.pressure_level) + w * (hi.pressure - hi.pressure_level)
+    result = equilibrium(shell, volume_load(load, shell.radius, fraction), start, mu,
+                         replace(newton, max_iterations=200))
+    return result if result.converged else None
 
 
 def stability_table(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg,
@@ -81,8 +100,9 @@ def onset_of_folding(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg
                 break
             w = min(max(v_lo / (v_lo - v_hi), 0.05), 0.95)   # Illinois regula falsi
             f = f_lo + w * (f_hi - f_lo)
-            result = next_state(shell, load, lo, f, newton) or next_state(shell, load, hi, f,
-                                                                           newton)
+            result = next_state(shell, load, lo, f, newton) \
+                or next_state(shell, load, hi, f, newton) \
+                or _between(shell, load, lo, hi, w, f, newton)
             if result is None:
                 break
             table = harmonic_table(shell, load, result, near)
