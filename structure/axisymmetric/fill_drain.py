@@ -118,7 +118,7 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
     sign = 1.0 if direction == "fill" else -1.0
     states = [LegState(float(fractions[0]), start, 0, _tangent(shell, load, start)[2])]
     snaps = []
-    here, f_here = start, float(fractions[0])
+    here, f_here, negative = start, float(fractions[0]), states[0].negative
     spacing = float(np.abs(np.diff(fractions)).max()) if len(fractions) > 1 else 0.0
     size = spacing
     for target in fractions[1:]:
@@ -126,7 +126,7 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
             f = f_here + sign * min(size, abs(target - f_here))
             result = next_state(shell, load, here, f, newton)
             if result is not None:
-                here, f_here = result, f
+                here, f_here, negative = result, f, 0       # next_state's are stable
                 size = min(2.0 * size, spacing)
                 continue
             size *= 0.5
@@ -138,12 +138,12 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
             size = spacing
             if landed[0] is None:
                 here, f_here = landed[1], target
+                negative = _tangent(shell, load, here)[2]
                 continue
             snaps.append(landed[0])
-            here, f_here = landed[1], landed[0].landing_fraction
+            here, f_here, negative = landed[1], landed[0].landing_fraction, 0   # stable
             if sign * (f_here - target) > 0:       # landed past the target
                 break
-        negative = _tangent(shell, load, here)[2]
         states.append(LegState(float(target), here, len(snaps), negative)
                       if abs(f_here - target) < 1e-12 else None)
         if progress is not None:
