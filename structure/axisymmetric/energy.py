@@ -148,6 +148,11 @@ def evaluate(shell: ShellOfRevolution, load: AxisymmetricLoad, state: np.ndarray
     """Pi, its gradient and (``order`` 2) its Hessian at ``state`` (4 n,) under ``load`` with
     the net uniform pressure ``net_pressure`` mu (Pa) (module doc); ``order`` 0 gives the
     energy and the enclosed volume only (gradients empty)."""
+    if shell.support == "roller" and (load.liquid_density * load.gravity != 0
+                                      or net_pressure != 0):
+        raise NotImplementedError("a roller rim's static load (the band of wall it slides "
+                                  "over) is not modelled: it serves the second variation "
+                                  "(structure.axisymmetric.harmonics.roller_closure)")
     meridian = shell.meridian
     weight = meridian.point_weight.ravel()
     u = local_variables(meridian, state).reshape(-1, 6)

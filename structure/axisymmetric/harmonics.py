@@ -44,9 +44,10 @@ form. The volume constraint acts on n = 0 alone (the integral of cos n theta van
 U, U', V, V', W, W'). The pole's regularity for harmonic n: n = 1, W = 0 and U + V = 0 (a
 translation across the axis); n >= 2, U = V = W = 0 and W' = 0; n >= 3 also U' = V' = 0. The
 rim's support: clamped, U = V = W = 0 and (U', W') along the rest tangent; simply supported,
-U = V = W = 0; symmetric (a mirror plane), W = 0 and U' = V' = 0. The stability of harmonic n
-is the lowest eigenvalue of K_n phi = omega^2 M phi (1/s^2; M the sheet's mass, rho_m t per
-rest area): negative where the equilibrium is unstable to n lobes; phi its mode.
+U = V = W = 0; symmetric (a mirror plane), W = 0 and U' = V' = 0; roller, U = V = 0 (with
+the liquid under the band of wall it slides over, :func:`roller_closure`). The stability of
+harmonic n is the lowest eigenvalue of K_n phi = omega^2 M phi (1/s^2; M the sheet's mass,
+rho_m t per rest area): negative where the equilibrium is unstable to n lobes; phi its mode.
 """
 from __future__ import annotations
 
@@ -276,12 +277,31 @@ def harmonic_stiffness(shell: ShellOfRevolution, state: np.ndarray, liquid: floa
                 point += np.swapaxes(pa[i], 0, 1) @ hess @ pa[j]
                 point += np.swapaxes(pb[i], 0, 1) @ hess @ pb[j]
         powers.append(np.pi * _assemble(shell, point))
+    if shell.support == "roller":
+        powers[0] = powers[0] + roller_closure(shell, state, liquid)
     rest = rest_at_points(shell.meridian)
     density = shell.material.density * shell.material.thickness * rest["area"] / (2 * np.pi)
     unit = np.zeros((FIELDS, FIELDS))
     unit[[0, 3, 6], [0, 3, 6]] = 1.0
     mass = np.pi * _assemble(shell, density[:, None, None] * unit)
     return HarmonicStiffness(tuple(powers), mass)
+
+
+def roller_closure(shell: ShellOfRevolution, state: np.ndarray, liquid: float) -> sp.csr_matrix:
+    """(6 nn, 6 nn): the second variation of the liquid under a ``roller`` rim's band of wall.
+
+    The load potential closes the liquid through the rim's own plane
+    (:mod:`~structure.axisymmetric.loads`), exact while the rim's height is held. A roller
+    rim at radius r_0 rises by W cos(n theta) along its vertical wall, and the liquid gains
+    the band of wall it uncovers: the flux of (rho g z + mu) (x, y, 0) / 2 through it,
+    Int (rho g z + mu) dz r_0^2 / 2 dtheta, whose second variation in W is
+    pi rho g r_0^2 W^2 / 2 (n >= 1; the first-order part integrates to zero over theta).
+    Without it a flat sheet lying on the liquid would miss rho g r_0^2 / 2 of its free
+    surface's stiffness pi rho g Int w^2 r dr."""
+    size = NODE_DOFS * shell.meridian.nodes
+    rim = size - NODE_DOFS + 4
+    r0 = float(state[-4])
+    return sp.csr_matrix(([0.5 * np.pi * liquid * r0 * r0], ([rim], [rim])), shape=(size, size))
 
 
 def axisymmetric_hessian(shell: ShellOfRevolution, state: np.ndarray, liquid: float,
@@ -313,6 +333,8 @@ def admissible_harmonic(shell: ShellOfRevolution, n: int) -> sp.csr_matrix:
     support = shell.support
     if support == "symmetric":
         rim_held = {W, U1, V1}
+    elif support == "roller":
+        rim_held = {U, V}
     else:
         rim_held = {U, V, W}
         if support == "clamped":

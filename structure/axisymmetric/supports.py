@@ -9,7 +9,9 @@ surface is smooth there (no cone point); dr/dS(0) and z(0) are free.
   (cos Phi_L, sin Phi_L): one free combination, the meridional stretch at the rim;
 * ``simply-supported``: r and z held, the slope free;
 * ``symmetric``: z and the slope held, r free: a mirror plane through the rim, exact when the
-  rest tangent there is vertical (the hemisphere at its equator: the complete sphere).
+  rest tangent there is vertical (the hemisphere at its equator: the complete sphere);
+* ``roller``: r held, z and the slope free: the rim rides on a vertical wall (a sheet lying
+  on a liquid whose edge moves as a free surface's contact line does).
 
 T (4 n, k) has orthonormal columns (unit vectors of the free entries, and the clamped slope's
 combination), x_held = x_rest - T T^T x_rest is the held part of the rest state, and
@@ -24,7 +26,7 @@ import scipy.sparse as sp
 
 from .meridian import DOFS_PER_NODE, DR, DZ, R, Z, Meridian
 
-SUPPORTS = ("clamped", "simply-supported", "symmetric")
+SUPPORTS = ("clamped", "simply-supported", "symmetric", "roller")
 """The rim supports (module doc)."""
 
 
@@ -54,7 +56,9 @@ def admissible(meridian: Meridian, support: str) -> Admissible:
         raise ValueError("the rest shape must meet the axis with a horizontal tangent")
     size = meridian.size
     rim = size - DOFS_PER_NODE
-    held = {R, DZ, rim + Z}
+    held = {R, DZ}
+    if support != "roller":
+        held.add(rim + Z)
     if support != "symmetric":
         held.add(rim + R)
     columns = [np.eye(1, size, k).ravel() for k in range(size)
@@ -63,7 +67,7 @@ def admissible(meridian: Meridian, support: str) -> Admissible:
     if support == "symmetric" and abs(tangent[0]) > 1e-9:
         raise ValueError("a symmetric rim needs a vertical rest tangent there (a mirror "
                          f"plane), got slope angle cos = {tangent[0]:.3g}")
-    if support == "simply-supported":
+    if support in ("simply-supported", "roller"):
         columns += [np.eye(1, size, rim + DR).ravel(), np.eye(1, size, rim + DZ).ravel()]
     else:
         column = np.zeros(size)
