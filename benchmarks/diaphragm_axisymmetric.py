@@ -18,23 +18,36 @@ writes it to ``docs/data/diaphragm_axisymmetric.json``) and draws
   whether each leg's state is stable to every harmonic n = 1 ... 30); ``snaps``; ``onset``
   {``tank_fraction``, ``lobes``} on the fill and ``drain_onset`` on the drain;
   ``stability_map``, the lowest eigenvalue (1/s^2) of every harmonic at every fraction of
-  each leg; ``seconds`` of the whole run and of its parts.
+  each leg; ``seconds`` of the whole run and of its parts;
+* ``slosh_table``, one row per tank fraction of :data:`SLOSH_FRACTIONS` on the fill's branch
+  (:func:`fsi.slosh.axisymmetric.converged_slosh`): ``lambda1_full`` = omega^2 a / g of the
+  slosh mode (the largest slosh mass), ``slosh_mass_fraction`` (over the liquid's mass) and
+  ``hinge`` (the pendulum's hinge, m above the tank's centre), extrapolated to a wet part
+  that reaches the wall, with ``wet_gap_order`` (the observed order in the gap);
+  ``lambda1_lowest`` and its slosh mass, the lowest stable mode; ``unstable_n1``, the
+  directions of negative stiffness in n = 1; ``branch_stable`` (every harmonic);
+  ``lambda1_free``, the free surface's (the limp limit); ``lambda1_tension_field``, None
+  (the harmonics' second variation needs the full law);
+* ``limp_check``, one row per tank fraction: the limp limit's ``lambda1`` and slosh mass
+  against the isoparametric P2 reference (``docs/data/sphere_slosh_reference.json``).
 
 The tank fraction 1.0 is out of reach: the clamped rim holds the sheet's tangent, so the
 inverted sheet turns back on itself there; the last fraction is 0.99.
 ``--smoke``: :data:`SMOKE_GRIDS` to tank fraction 0.05 and the run on :data:`SMOKE_RUN_GRID`
-elements over :data:`SMOKE_FRACTIONS`.
+elements over :data:`SMOKE_FRACTIONS`, the slosh table at :data:`SMOKE_SLOSH_FRACTIONS`.
 """
 from __future__ import annotations
 
 import argparse
+import json
 import time
 
 import numpy as np
 
-from _report import SMOKE_HELP, emit, output_dir
+from _report import DOCS_DATA, SMOKE_HELP, emit, output_dir
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
                            STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
+from fsi.slosh.axisymmetric import converged_slosh, free_surface_slosh
 from structure.axisymmetric import (AxisymmetricLoad, barrier_wall, law_of, leg,
                                     shell_of_revolution)
 from structure.axisymmetric.folding import onset_of_folding, stability_table
@@ -44,7 +57,7 @@ from structure.model import Material
 
 #: the JSON's top-level keys the documentation reads
 DOC_FIELDS = ("grid_study", "onset", "drain_onset", "snaps", "fills", "seconds",
-              "stability_map", "elements")
+              "stability_map", "elements", "slosh_table", "limp_check", "seconds_slosh")
 #: meridian grids (elements) of the grid study, and of --smoke
 GRIDS = (64, 96, 128, 192, 256, 384)
 SMOKE_GRIDS = (16, 32, 64)
@@ -57,6 +70,9 @@ SMOKE_RUN_GRID = 48
 #: the tank fractions of both legs, and of --smoke
 FRACTIONS = tuple(np.round(np.concatenate([np.linspace(0.0, 0.975, 40), [0.99]]), 4))
 SMOKE_FRACTIONS = (0.0, 0.025, 0.05, 0.95, 0.975)
+#: the tank fractions of the slosh table, and of --smoke
+SLOSH_FRACTIONS = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
+SMOKE_SLOSH_FRACTIONS = (0.05, 0.95)
 #: the wall's band (fraction of a) and the element ratio at the rim
 WALL_BAND = 1e-4
 RIM_RATIO = 0.3
@@ -134,6 +150,49 @@ def _figure(study, path) -> None:
     plt.close(fig)
 
 
+def _reference() -> dict:
+    """The free surface's lambda1 and slosh mass by tank fraction, P2 to 8 digits."""
+    return json.loads((DOCS_DATA / "sphere_slosh_reference.json").read_text())["fills"]
+
+
+def slosh_rows(shell, load, study, fractions) -> tuple[list, list]:
+    """(slosh_table, limp_check) at ``fractions`` on the fill's branch (module doc)."""
+    reference = _reference()
+    a = shell.radius
+    table, limp = [], []
+    for f in fractions:
+        k = int(np.argmin(np.abs(study.fractions - f)))
+        state, stab = study.fill.states[k], study.fill_tables[k]
+        if state is None or abs(study.fractions[k] - f) > 1e-9:
+            continue
+        e = state.equilibrium
+        volume = f * 4.0 / 3.0 * np.pi * a**3
+        slosh = converged_slosh(shell, e.state, load.liquid_density, load.gravity,
+                                e.pressure - e.pressure_level, volume)
+        finest = slosh.by_gap[-1]
+        stable = finest.omega2 > 0
+        lowest = int(np.argmax(stable))
+        free = free_surface_slosh(f, a, load.liquid_density, load.gravity)
+        table.append(dict(
+            tank_fraction=float(f), lambda1_full=slosh.lambda1,
+            slosh_mass_fraction=slosh.slosh_mass_fraction, hinge=slosh.hinge,
+            wet_gap_order=slosh.observed_order,
+            lambda1_lowest=float(finest.lam[lowest]),
+            lowest_slosh_mass_fraction=float(finest.slosh_mass[lowest] / finest.liquid_mass),
+            unstable_n1=slosh.unstable, branch_stable=None if stab is None else stab.stable,
+            lambda1_free=free.lambda1, free_slosh_mass_fraction=free.slosh_mass_fraction,
+            lambda1_tension_field=None))
+        known = reference.get(str(round(float(f), 4)))
+        limp.append(dict(
+            tank_fraction=float(f), lambda1=free.lambda1,
+            slosh_mass_fraction=free.slosh_mass_fraction,
+            reference=None if known is None else known["lambda1"],
+            error=None if known is None else free.lambda1 / known["lambda1"] - 1,
+            mass_error=None if known is None
+            else free.slosh_mass_fraction / known["slosh_mass_fraction"] - 1))
+    return table, limp
+
+
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
@@ -163,6 +222,10 @@ def main(argv=None) -> dict:
             lowest_eigenvalue=None if ta is None else float(ta.eigenvalue[critical]),
             fill_stable=None if ta is None else ta.stable,
             drain_stable=None if tb is None else tb.stable))
+    began = time.perf_counter()
+    slosh_table, limp_check = slosh_rows(
+        shell, load, study, SMOKE_SLOSH_FRACTIONS if args.smoke else SLOSH_FRACTIONS)
+    seconds_slosh = time.perf_counter() - began
     snaps = [dict(direction=s.direction, tank_fraction=s.tank_fraction,
                   level_before=s.level_before, level_after=s.level_after)
              for s in list(study.fill.snaps) + list(study.drain.snaps)]
@@ -177,6 +240,8 @@ def main(argv=None) -> dict:
                seconds_parts={k: round(v, 2) for k, v in study.seconds.items()},
                onset=onset(study.fill_onset), drain_onset=onset(study.drain_onset),
                snaps=snaps, fills=fills, grid_study=study_grid,
+               slosh_table=slosh_table, limp_check=limp_check,
+               seconds_slosh=round(seconds_slosh, 2),
                stability_map=dict(
                    wave_numbers=[int(n) for n in study.fill_tables[0].wave_numbers],
                    fill=[None if t is None else [float(v) for v in t.eigenvalue]

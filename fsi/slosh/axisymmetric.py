@@ -53,6 +53,7 @@ from typing import Callable, Optional
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
+from scipy.optimize import brentq
 from scipy.sparse.linalg import LinearOperator, eigsh
 
 from fluid.section.mesh import sphere_section
@@ -62,7 +63,9 @@ from structure.axisymmetric.harmonics import (NODE_DOFS, admissible_harmonic,
                                               harmonic_stiffness)
 from structure.axisymmetric.hermite import gauss_rule, hermite_basis
 from structure.axisymmetric.meridian import locate
-from structure.axisymmetric.model import ShellOfRevolution
+from structure.axisymmetric.model import ShellOfRevolution, shell_of_revolution
+from structure.hyperelastic import SaintVenantKirchhoff
+from structure.model import Material
 
 CONTACT_GAP = 1e-3
 """The sheet is wet up to where its gap to the wall falls to this fraction of a (module doc)."""
@@ -198,17 +201,44 @@ def wet_trace(curve: SheetCurve, mesh, fluid_dofs: int) -> WetTrace:
     return WetTrace(trace, moment)
 
 
-def added_mass(potential, trace: sp.csr_matrix, liquid_density: float) -> np.ndarray:
-    """(6 n, 6 n) kg per unit q^2: M_a = pi rho G^T A^-1 G on the free fluid dofs (module
-    doc), dense."""
+def added_mass(potential, trace: sp.csr_matrix, liquid_density: float):
+    """(values (k,), block (k, k)): M_a = pi rho G^T A^-1 G on the free fluid dofs (module
+    doc), kg per unit q^2, nonzero on the sheet's ``values`` (its wet part's) alone."""
     g = trace[potential.free].tocsc()
+    values = np.unique(g.nonzero()[1])
+    g = g[:, values]
     touched = np.unique(g.nonzero()[0])
     lu = sp.linalg.splu(potential.reduced, permc_spec="COLAMD")
     unit = np.zeros((g.shape[0], len(touched)))
     unit[touched, np.arange(len(touched))] = 1.0
     schur = lu.solve(unit)[touched]                                     # (A^-1)_bb
     gb = g[touched].toarray()
-    return np.pi * liquid_density * gb.T @ (0.5 * (schur + schur.T)) @ gb
+    return values, np.pi * liquid_density * gb.T @ (0.5 * (schur + schur.T)) @ gb
+
+
+@dataclass(frozen=True)
+class SheetOperators:
+    """The sheet's side of the modes (module doc): ``stiffness`` K_1 and ``mass`` M (6 n,
+    6 n) CSR, ``basis`` T (6 n, k) CSR of the admitted values, ``translation`` r_x and
+    ``rotation`` r_y (6 n,)."""
+
+    stiffness: sp.csr_matrix
+    mass: sp.csr_matrix
+    basis: sp.csr_matrix
+    translation: np.ndarray
+    rotation: np.ndarray
+
+
+def sheet_operators(shell: ShellOfRevolution, state: np.ndarray, liquid_weight: float,
+                    net_pressure: float, centre: float = 0.0) -> SheetOperators:
+    """K_1, M, T and the rigid motions of ``shell`` at ``state`` under the liquid's weight
+    density ``liquid_weight`` rho g (N/m^3) and the net pressure mu (Pa), the tank's centre
+    at height ``centre`` m in the sheet's frame."""
+    stiffness = harmonic_stiffness(shell, state, liquid_weight, net_pressure)
+    k = stiffness.stiffness(1)
+    translation, rotation = rigid_vectors(shell, state, centre)
+    return SheetOperators((0.5 * (k + k.T)).tocsr(), stiffness.mass,
+                          admissible_harmonic(shell, 1), translation, rotation)
 
 
 def rigid_vectors(shell: ShellOfRevolution, state: np.ndarray, centre: float = 0.0):
@@ -274,8 +304,8 @@ def axisymmetric_slosh(shell: ShellOfRevolution, state: np.ndarray, liquid_densi
                        section: Optional[Callable] = None, wet: Optional[float] = None,
                        offset: float = 0.0, contact_gap: float = CONTACT_GAP,
                        fluid_cells: int = FLUID_CELLS, modes: int = MODES,
-                       centre: float = 0.0,
-                       tank_radius: Optional[float] = None) -> AxisymmetricSlosh:
+                       centre: float = 0.0, tank_radius: Optional[float] = None,
+                       sheet: Optional[SheetOperators] = None) -> AxisymmetricSlosh:
     """The n = 1 modes of ``shell`` at the equilibrium ``state`` (4 n,) on the liquid below it
     (module doc): ``liquid_density`` rho kg/m^3, ``gravity`` g m/s^2, ``net_pressure`` mu Pa
     (the equilibrium's), ``liquid_volume`` m^3 (for the slosh mass fraction). ``section``
@@ -283,7 +313,8 @@ def axisymmetric_slosh(shell: ShellOfRevolution, state: np.ndarray, liquid_densi
     origin below it by default, ``fluid_cells`` cells a block); ``wet`` the wet part's end S
     (by ``contact_gap`` by default); ``offset`` m raises the sheet in the section's frame;
     ``centre`` m the height of the tank's centre there; ``tank_radius`` a m (the rim's by
-    default), which scales lambda."""
+    default), which scales lambda; ``sheet`` the sheet's operators when already formed
+    (:func:`sheet_operators`)."""
     a = shell.radius if tank_radius is None else tank_radius
     wet = wet_end(shell, state, contact_gap, offset, a) if wet is None else wet
     curve = SheetCurve(shell, state, offset, wet)
@@ -292,24 +323,102 @@ def axisymmetric_slosh(shell: ShellOfRevolution, state: np.ndarray, liquid_densi
             return sphere_section(top, fluid_cells, FLUID_GRADING, radius=a)
     potential = section_potential(section(curve.top), 1)
     coupling = wet_trace(curve, potential.mesh, potential.basis.N)
-    stiffness = harmonic_stiffness(shell, state, liquid_density * gravity, net_pressure)
-    k_full = stiffness.stiffness(1).toarray()
-    m_full = stiffness.mass.toarray() + added_mass(potential, coupling.trace, liquid_density)
-    t = admissible_harmonic(shell, 1).toarray()
-    k, m = t.T @ k_full @ t, t.T @ m_full @ t
-    k = 0.5 * (k + k.T)
+    if sheet is None:
+        sheet = sheet_operators(shell, state, liquid_density * gravity, net_pressure,
+                                centre - offset)
+    values, block = added_mass(potential, coupling.trace, liquid_density)
+    t = sheet.basis
+    tw = t[values].toarray()                                            # (wet, k)
+    k = (t.T @ sheet.stiffness @ t).toarray()
+    m = (t.T @ sheet.mass @ t).toarray() + tw.T @ block @ tw
     omega2, reduced = _eigenpairs(k, m, modes, gravity / a)
-    full = reduced.T @ t.T                                              # (k, 6 n)
-    translation, rotation = rigid_vectors(shell, state, centre - offset)
-    load = np.pi * liquid_density * coupling.moment + stiffness.mass @ translation
+    full = (t @ reduced).T                                              # (k, 6 n)
+    load = np.pi * liquid_density * coupling.moment + sheet.mass @ sheet.translation
     participation = full @ load
-    modal_mass = np.einsum("ki,ij,kj->k", full, m_full, full)
-    reaction = full @ k_full - omega2[:, None] * (full @ m_full)
+    modal_mass = np.einsum("ki,ij,kj->k", reduced.T, m, reduced.T)
+    inertia = (sheet.mass @ full.T).T
+    inertia[:, values] += full[:, values] @ block
+    reaction = (sheet.stiffness @ full.T).T - omega2[:, None] * inertia
     with np.errstate(divide="ignore", invalid="ignore"):
-        hinge = -(reaction @ rotation) / (omega2 * participation)
+        hinge = -(reaction @ sheet.rotation) / (omega2 * participation)
     slosh_mass = participation**2 / modal_mass
     stable = omega2 > 0
     index = int(np.argmax(np.where(stable, slosh_mass, -np.inf)))
     return AxisymmetricSlosh(omega2, omega2 * a / gravity, slosh_mass, hinge, full, index,
                              int(np.sum(~stable)), liquid_density * liquid_volume, wet,
                              len(potential.free))
+
+
+CONTACT_GAPS = (1e-3, 5e-4, 2.5e-4)
+"""The wet part's end gaps (fraction of a) of :func:`converged_slosh`, each half the last."""
+
+
+@dataclass(frozen=True)
+class ConvergedSlosh:
+    """The slosh mode extrapolated to a wet part that reaches the wall (gap 0) from
+    :data:`CONTACT_GAPS`: ``lambda1``, ``slosh_mass_fraction``, ``hinge`` (m above the tank's
+    centre), each Richardson's value over the gaps with its ``observed_order`` (of lambda1;
+    None where the differences do not shrink monotonically, then the finest gap's values);
+    ``by_gap`` the :class:`AxisymmetricSlosh` of each gap."""
+
+    lambda1: float
+    slosh_mass_fraction: float
+    hinge: float
+    observed_order: Optional[float]
+    by_gap: tuple
+
+    @property
+    def unstable(self) -> int:
+        """Directions of negative stiffness in n = 1 found (at the finest gap)."""
+        return self.by_gap[-1].unstable
+
+
+def _richardson(values, order: Optional[float]) -> float:
+    f1, f2, f3 = values
+    if order is None:
+        return float(f3)
+    return float(f3 + (f3 - f2) / (2.0**order - 1))
+
+
+def converged_slosh(shell: ShellOfRevolution, state: np.ndarray, liquid_density: float,
+                    gravity: float, net_pressure: float, liquid_volume: float,
+                    gaps=CONTACT_GAPS, **options) -> ConvergedSlosh:
+    """:func:`axisymmetric_slosh` at each wet end of ``gaps`` (three, each half the last; the
+    sheet's operators formed once), extrapolated to gap 0 by Richardson at the observed order
+    of lambda1 (module doc: the film left out beyond the wet end shifts lambda1 at first
+    order in the gap). ``options`` go to :func:`axisymmetric_slosh`."""
+    if len(gaps) != 3:
+        raise ValueError(f"converged_slosh needs three gaps, got {len(gaps)}")
+    sheet = sheet_operators(shell, state, liquid_density * gravity, net_pressure,
+                            options.get("centre", 0.0) - options.get("offset", 0.0))
+    runs = tuple(axisymmetric_slosh(shell, state, liquid_density, gravity, net_pressure,
+                                    liquid_volume, contact_gap=g, sheet=sheet, **options)
+                 for g in gaps)
+    lam = [r.lambda1 for r in runs]
+    d1, d2 = lam[1] - lam[0], lam[2] - lam[1]
+    order = float(np.log(d1 / d2) / np.log(2.0)) if d1 * d2 > 0 and abs(d1) > abs(d2) \
+        else None
+    return ConvergedSlosh(_richardson(lam, order),
+                          _richardson([r.slosh_mass_fraction for r in runs], order),
+                          _richardson([r.hinge_height for r in runs], order), order, runs)
+
+
+def free_surface_slosh(tank_fraction: float, tank_radius: float, liquid_density: float,
+                       gravity: float, elements: int = 32,
+                       fluid_cells: int = FLUID_CELLS) -> AxisymmetricSlosh:
+    """The limp limit (E, D and the sheet's mass -> 0): a massless flat disc of negligible
+    stiffness at the free surface's level in the sphere of ``tank_radius`` m filled to
+    ``tank_fraction``, its rim on a roller (the contact line moves), on ``elements``
+    meridian elements: its modes are the free surface's."""
+    a = tank_radius
+    volume = tank_fraction * 4.0 / 3.0 * np.pi * a**3
+    level = brentq(lambda z: np.pi * (a * a * z - z**3 / 3 + 2 * a**3 / 3) - volume, -a, a,
+                   xtol=1e-15 * a)
+    youngs = 1e-9 * liquid_density * gravity * a
+    shell = shell_of_revolution("disc", float(np.sqrt(a * a - level * level)),
+                                Material(1e-3 * a, 0.0, youngs, 0.3),
+                                SaintVenantKirchhoff(youngs, 0.3), elements, support="roller",
+                                bending=False)
+    return axisymmetric_slosh(shell, shell.meridian.rest_state, liquid_density, gravity, 0.0,
+                              volume, wet=shell.meridian.shape.length, offset=level,
+                              tank_radius=a, fluid_cells=fluid_cells)
