@@ -76,15 +76,12 @@ def p2_trace(t: np.ndarray) -> np.ndarray:
     return np.array([(1 - t) * (1 - 2 * t), 4 * t * (1 - t), t * (2 * t - 1)])
 
 
-def boundary_facets(mesh: MeshTri2, on_curve) -> tuple[np.ndarray, np.ndarray]:
-    """(facets (k,), dofs (3, k)): the boundary facets whose three P2 nodes satisfy
-    ``on_curve`` (points (2, j) -> (j,) bool), and their end, middle and other end dofs."""
+def boundary_facets(mesh: MeshTri2) -> tuple[np.ndarray, np.ndarray]:
+    """(facets (k,), dofs (3, k)): the boundary facets of ``mesh`` and their end, middle and
+    other end dofs."""
     facets = mesh.boundary_facets()
     ends = mesh.facets[:, facets]
-    dofs = np.vstack([ends[0], mesh.nvertices + facets, ends[1]])
-    points = mesh.doflocs[:, dofs.ravel()]
-    keep = on_curve(points).reshape(3, -1).all(axis=0)
-    return facets[keep], dofs[:, keep]
+    return facets, np.vstack([ends[0], mesh.nvertices + facets, ends[1]])
 
 
 def facet_coordinate(arc: np.ndarray, nodes: np.ndarray) -> np.ndarray:

@@ -53,9 +53,9 @@ from typing import Callable, Optional
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
-from scipy.optimize import brentq
 from scipy.sparse.linalg import LinearOperator, eigsh
 
+from fluid.container import SphericalTank
 from fluid.section.mesh import sphere_section
 from fluid.section.potential import (boundary_facets, facet_coordinate, p2_trace,
                                      section_potential)
@@ -166,8 +166,10 @@ def wet_trace(curve: SheetCurve, mesh, fluid_dofs: int) -> WetTrace:
     :data:`ON_CURVE` of the mesh's extent from the curve lies on it."""
     shell = curve.shell
     scale = float(np.ptp(mesh.doflocs, axis=1).max())
-    _, dofs = boundary_facets(mesh, lambda p: curve.project(p)[1] < ON_CURVE * scale)
-    nodes_arc = curve.project(mesh.doflocs[:, dofs.ravel()])[0].reshape(3, -1)
+    _, dofs = boundary_facets(mesh)
+    arc, distance = (v.reshape(3, -1) for v in curve.project(mesh.doflocs[:, dofs.ravel()]))
+    on_curve = (distance < ON_CURVE * scale).all(axis=0)
+    dofs, nodes_arc = dofs[:, on_curve], arc[:, on_curve]
     sheet_nodes = shell.meridian.node_arc_length
     xg, wg = gauss_rule(TRACE_POINTS)
     arc, weight, facet = [], [], []
@@ -412,8 +414,7 @@ def free_surface_slosh(tank_fraction: float, tank_radius: float, liquid_density:
     meridian elements: its modes are the free surface's."""
     a = tank_radius
     volume = tank_fraction * 4.0 / 3.0 * np.pi * a**3
-    level = brentq(lambda z: np.pi * (a * a * z - z**3 / 3 + 2 * a**3 / 3) - volume, -a, a,
-                   xtol=1e-15 * a)
+    level = SphericalTank(a).level_holding(volume)
     youngs = 1e-9 * liquid_density * gravity * a
     shell = shell_of_revolution("disc", float(np.sqrt(a * a - level * level)),
                                 Material(1e-3 * a, 0.0, youngs, 0.3),
