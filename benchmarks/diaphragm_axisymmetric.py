@@ -26,8 +26,12 @@ writes it to ``docs/data/diaphragm_axisymmetric.json``) and draws
   that reaches the wall, with ``wet_gap_order`` (the observed order in the gap);
   ``lambda1_lowest`` and its slosh mass, the lowest stable mode; ``unstable_n1``, the
   directions of negative stiffness in n = 1; ``branch_stable`` (every harmonic);
-  ``lambda1_free``, the free surface's (the limp limit); ``lambda1_tension_field``, None
-  (the harmonics' second variation needs the full law);
+  ``lambda1_free``, the free surface's (the limp limit); ``lambda1_tension_field``, the
+  tension field's with the residual stiffness e = 1e-2 (its fill leg from rest, no snaps),
+  and ``tension_field``, its level, lambda1, slosh mass and unstable n = 1 directions at each
+  e of :data:`TENSION_RESIDUALS`, with ``tension_field_settled``: whether lambda1 at the two
+  smallest e agree within 1 % (the pure relaxed sheet's Newton does not converge: its slack
+  zones are held by bending alone; :mod:`structure.axisymmetric.laws`);
 * ``limp_check``, one row per tank fraction: the limp limit's ``lambda1`` and slosh mass
   against the isoparametric P2 reference (``docs/data/sphere_slosh_reference.json``).
 
@@ -41,13 +45,14 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from _report import DOCS_DATA, SMOKE_HELP, emit, output_dir
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
                            STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
-from fsi.slosh.axisymmetric import converged_slosh, free_surface_slosh
+from fsi.slosh.axisymmetric import converged_slosh, fill_slosh
 from structure.axisymmetric import (AxisymmetricLoad, barrier_wall, law_of, leg,
                                     shell_of_revolution)
 from structure.axisymmetric.folding import onset_of_folding, stability_table
@@ -73,6 +78,9 @@ SMOKE_FRACTIONS = (0.0, 0.025, 0.05, 0.95, 0.975)
 #: the tank fractions of the slosh table, and of --smoke
 SLOSH_FRACTIONS = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
 SMOKE_SLOSH_FRACTIONS = (0.05, 0.95)
+#: the tension field's residual stiffnesses e (the first is the table's column), and of --smoke
+TENSION_RESIDUALS = (1e-2, 1e-3, 1e-4)
+SMOKE_TENSION_RESIDUALS = (1e-2,)
 #: the wall's band (fraction of a) and the element ratio at the rim
 WALL_BAND = 1e-4
 RIM_RATIO = 0.3
@@ -150,46 +158,75 @@ def _figure(study, path) -> None:
     plt.close(fig)
 
 
+def _first(values):
+    return float(values[0]) if values else None
+
+
+def _settled(values, tolerance: float = 1e-2):
+    """Whether the last two of ``values`` agree within ``tolerance`` (None with fewer)."""
+    if len(values) < 2:
+        return None
+    return bool(abs(values[-1] - values[-2]) <= tolerance * abs(values[-2]))
+
+
 def _reference() -> dict:
     """The free surface's lambda1 and slosh mass by tank fraction, P2 to 8 digits."""
     return json.loads((DOCS_DATA / "sphere_slosh_reference.json").read_text())["fills"]
 
 
-def slosh_rows(shell, load, study, fractions) -> tuple[list, list]:
+def tension_field_rows(shell, load, fractions, residuals) -> dict:
+    """{fraction: {residual, level, lambda1, slosh_mass_fraction, hinge, unstable_n1} lists}:
+    the tension field's fill leg from rest through the tank fractions 0, 0.025, ... up to the
+    last of ``fractions`` for each residual stiffness e of ``residuals``, its n = 1 slosh at
+    each of ``fractions``."""
+    material = replace(shell.material, wrinkling="tension-field")
+    end = max(fractions)
+    steps = np.union1d(np.round(np.arange(0.0, end + 1e-9, 0.025), 4), np.round(fractions, 4))
+    out = {float(f): dict(residual=[], level=[], lambda1=[], slosh_mass_fraction=[], hinge=[],
+                          unstable_n1=[]) for f in fractions}
+    for e in residuals:
+        relaxed = replace(shell, material=material, residual_stiffness=e)
+        fill = leg(relaxed, load, equilibrium(relaxed, load), steps)
+        for f, state in zip(steps, fill.states):
+            if float(f) not in out or state is None:
+                continue
+            q = state.equilibrium
+            slosh = converged_slosh(relaxed, q.state, load.liquid_density, load.gravity,
+                                    q.pressure - q.pressure_level,
+                                    f * 4.0 / 3.0 * np.pi * shell.radius**3)
+            row = out[float(f)]
+            for key, value in (("residual", e), ("level", q.pressure_level),
+                               ("lambda1", slosh.lambda1),
+                               ("slosh_mass_fraction", slosh.slosh_mass_fraction),
+                               ("hinge", slosh.hinge), ("unstable_n1", slosh.unstable)):
+                row[key].append(value)
+    return out
+
+
+def slosh_rows(shell, load, study, fractions, residuals) -> tuple[list, list]:
     """(slosh_table, limp_check) at ``fractions`` on the fill's branch (module doc)."""
     reference = _reference()
-    a = shell.radius
+    relaxed = tension_field_rows(shell, load, fractions, residuals)
     table, limp = [], []
     for f in fractions:
         k = int(np.argmin(np.abs(study.fractions - f)))
         state, stab = study.fill.states[k], study.fill_tables[k]
         if state is None or abs(study.fractions[k] - f) > 1e-9:
             continue
-        e = state.equilibrium
-        volume = f * 4.0 / 3.0 * np.pi * a**3
-        slosh = converged_slosh(shell, e.state, load.liquid_density, load.gravity,
-                                e.pressure - e.pressure_level, volume)
-        finest = slosh.by_gap[-1]
-        stable = finest.omega2 > 0
-        lowest = int(np.argmax(stable))
-        free = free_surface_slosh(f, a, load.liquid_density, load.gravity)
-        table.append(dict(
-            tank_fraction=float(f), lambda1_full=slosh.lambda1,
-            slosh_mass_fraction=slosh.slosh_mass_fraction, hinge=slosh.hinge,
-            wet_gap_order=slosh.observed_order,
-            lambda1_lowest=float(finest.lam[lowest]),
-            lowest_slosh_mass_fraction=float(finest.slosh_mass[lowest] / finest.liquid_mass),
-            unstable_n1=slosh.unstable, branch_stable=None if stab is None else stab.stable,
-            lambda1_free=free.lambda1, free_slosh_mass_fraction=free.slosh_mass_fraction,
-            lambda1_tension_field=None))
+        row = fill_slosh(shell, state.equilibrium, f, load.liquid_density, load.gravity)
+        row.update(branch_stable=None if stab is None else stab.stable,
+                   lambda1_tension_field=_first(relaxed[float(f)]["lambda1"]),
+                   tension_field=relaxed[float(f)],
+                   tension_field_settled=_settled(relaxed[float(f)]["lambda1"]))
+        table.append(row)
         known = reference.get(str(round(float(f), 4)))
         limp.append(dict(
-            tank_fraction=float(f), lambda1=free.lambda1,
-            slosh_mass_fraction=free.slosh_mass_fraction,
+            tank_fraction=float(f), lambda1=row["lambda1_free"],
+            slosh_mass_fraction=row["free_slosh_mass_fraction"],
             reference=None if known is None else known["lambda1"],
-            error=None if known is None else free.lambda1 / known["lambda1"] - 1,
+            error=None if known is None else row["lambda1_free"] / known["lambda1"] - 1,
             mass_error=None if known is None
-            else free.slosh_mass_fraction / known["slosh_mass_fraction"] - 1))
+            else row["free_slosh_mass_fraction"] / known["slosh_mass_fraction"] - 1))
     return table, limp
 
 
@@ -224,7 +261,8 @@ def main(argv=None) -> dict:
             drain_stable=None if tb is None else tb.stable))
     began = time.perf_counter()
     slosh_table, limp_check = slosh_rows(
-        shell, load, study, SMOKE_SLOSH_FRACTIONS if args.smoke else SLOSH_FRACTIONS)
+        shell, load, study, SMOKE_SLOSH_FRACTIONS if args.smoke else SLOSH_FRACTIONS,
+        SMOKE_TENSION_RESIDUALS if args.smoke else TENSION_RESIDUALS)
     seconds_slosh = time.perf_counter() - began
     snaps = [dict(direction=s.direction, tank_fraction=s.tank_fraction,
                   level_before=s.level_before, level_after=s.level_after)

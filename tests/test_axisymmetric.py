@@ -87,6 +87,11 @@ def test_the_laws_are_the_3d_sheets_at_the_principal_stretches(law):
             wm, gm, _ = membrane_density(law, e[:, 0] - d[0], e[:, 1] - d[1], tension_field)
             assert np.allclose((wp - wm) / (2 * eps), g[:, k], rtol=1e-6, atol=1e-9 * E)
             assert np.allclose((gp - gm) / (2 * eps), h[:, :, k], rtol=1e-6, atol=1e-9 * E)
+    # with a residual stiffness e the energy is (1 - e) W_relaxed + e W, derivatives too
+    full = membrane_density(law, e[:, 0], e[:, 1])
+    relaxed = membrane_density(law, e[:, 0], e[:, 1], True)
+    for got, a, b in zip(membrane_density(law, e[:, 0], e[:, 1], True, 0.3), relaxed, full):
+        assert np.allclose(got, 0.7 * a + 0.3 * b, rtol=1e-14, atol=0)
     # the taut-wrinkled boundary at E_1 = 0.15: lambda_2 = lambda_1^(-1/2) or E_2 = -nu E_1
     edge = (1.3**-0.5 - 1) / 2 if isinstance(law, HyperelasticLaw) else -0.3 * 0.15
     _, across, _ = membrane_density(law, np.array([0.15, 0.15]),
@@ -351,3 +356,11 @@ def test_pogorelov_mirror_buckling_exponents():
     constant = np.concatenate([by_depth[:, 0] / (young * 1e-3**2.5 * depths**1.5),
                                by_thickness[:, 0] / (young * thicknesses**2.5 * 0.08**1.5)])
     assert constant.max() / constant.min() < 1.03
+
+
+@pytest.mark.parametrize("residual", [-0.1, 1.0])
+def test_a_residual_stiffness_outside_zero_to_one_is_refused(residual):
+    from dataclasses import replace
+    shell = _table_4_1(8)
+    with pytest.raises(ValueError, match="residual_stiffness"):
+        replace(shell, residual_stiffness=residual)

@@ -160,11 +160,15 @@ def test_the_harmonics_n0_is_the_axisymmetric_hessian():
     jet by complex step and central difference, gives at n = 0 with V = 0 the axisymmetric
     Hessian of the meridian's energy (assembled analytically) at a perturbed, loaded,
     non-equilibrium hemisphere, for the incompressible law and Saint Venant-Kirchhoff, to
-    1e-6 of its largest entry (measured 4e-8 and 1.4e-8)."""
+    1e-6 of its largest entry (measured 4e-8 and 1.4e-8); relaxed by the tension field, with
+    taut, wrinkled and slack points, likewise (measured 4.9e-7 and 1.4e-8)."""
     from structure.axisymmetric.harmonics import axisymmetric_hessian
     rng = np.random.default_rng(0)
-    for name, nu in (("neo-hookean", 0.5), ("saint-venant-kirchhoff", 0.3)):
-        material = Material(T, MEMBRANE_DENSITY, E, nu)
+    for name, nu, wrinkling in (("neo-hookean", 0.5, "none"),
+                                ("saint-venant-kirchhoff", 0.3, "none"),
+                                ("neo-hookean", 0.5, "tension-field"),
+                                ("saint-venant-kirchhoff", 0.3, "tension-field")):
+        material = Material(T, MEMBRANE_DENSITY, E, nu, wrinkling=wrinkling)
         shell = shell_of_revolution("hemisphere", A, material, law_of(material, name), 12,
                                     rim_ratio=0.5)
         load = AxisymmetricLoad(pressure=-3000.0, pressure_level=200.0,
@@ -177,6 +181,70 @@ def test_the_harmonics_n0_is_the_axisymmetric_hessian():
         pick = (nodes + np.array([0, 1, 4, 5])).ravel()          # U, U', W, W' = r, r', z, z'
         surface = surface.toarray()[np.ix_(pick, pick)]
         assert np.abs(surface - exact).max() < 1e-6 * np.abs(exact).max()
+
+
+def test_the_harmonics_n1_holds_a_rigid_tilt():
+    """The strain energy is invariant under rotations, so along the tilt x(t) = R_y(t) x of
+    any state its second derivative vanishes: xdot^T K xdot = -g^T xddot, g the strain
+    energy's gradient. For an axisymmetric state the tilt is the n = 1 field U = z, V = -z,
+    W = -r, and xddot = -(x, 0, z) has the n = 0 part (-r / 2, -z), so q^T K_1 q =
+    g_r . r / 2 + g_z . z with g the axisymmetric gradient of
+    :func:`structure.axisymmetric.energy.evaluate`. A check of the harmonics' geometric
+    (in-plane shear and rotation) terms, independent of the n = 0 one: at a perturbed,
+    non-equilibrium hemisphere, for both laws, full and relaxed by the tension field (where
+    the wrinkled points' shear stiffness comes from the turning of the principal directions),
+    to 1e-7 (measured 2e-10 at most)."""
+    from structure.axisymmetric.harmonics import harmonic_stiffness
+    rng = np.random.default_rng(0)
+    for name, nu in (("neo-hookean", 0.5), ("saint-venant-kirchhoff", 0.3)):
+        for wrinkling in ("none", "tension-field"):
+            material = Material(T, MEMBRANE_DENSITY, E, nu, wrinkling=wrinkling)
+            shell = shell_of_revolution("hemisphere", A, material, law_of(material, name), 12,
+                                        rim_ratio=0.5)
+            free = shell.admissible.free(shell.meridian.rest_state)
+            x = shell.admissible.state(free + 0.01 * rng.standard_normal(free.shape))
+            g = evaluate(shell, AxisymmetricLoad(), x, 0.0).internal.reshape(-1, 4)
+            nodal = x.reshape(-1, 4)                            # r, r', z, z'
+            tilt = np.column_stack([nodal[:, 2:], -nodal[:, 2:], -nodal[:, :2]]).ravel()
+            k1 = harmonic_stiffness(shell, x, 0.0, 0.0).stiffness(1)
+            expected = 0.5 * np.sum(g[:, :2] * nodal[:, :2]) + np.sum(g[:, 2:] * nodal[:, 2:])
+            assert tilt @ (k1 @ tilt) == pytest.approx(expected, rel=1e-7)
+
+
+def test_the_relaxed_surface_energy_is_the_uniaxial_energy_of_c_s_larger_principal_value():
+    """Away from axisymmetry the tension field's wrinkled points keep the energy of uniaxial
+    tension at the larger principal value of C (Pipkin 1986), which turns with the in-plane
+    shear c_st; the complex-safe closed form of the surface energy against numpy's symmetric
+    eigenvalues of C at jets sheared out of axisymmetry, to 1e-12 (bending off, no load)."""
+    from structure.axisymmetric.energy import rest_at_points
+    from structure.axisymmetric.harmonics import base_jet, base_regime, surface_density
+    from structure.axisymmetric.laws import WRINKLED, uniaxial_density
+    material = Material(T, MEMBRANE_DENSITY, E, 0.5, wrinkling="tension-field")
+    shell = shell_of_revolution("hemisphere", A, material, law_of(material, "neo-hookean"), 12,
+                                rim_ratio=0.5, bending=False)
+    x = shell.meridian.rest_state.reshape(-1, 4).copy()
+    x[:, :2] *= 1.2                              # hoop stretched, the meridian shortened
+    x[:, 2:] *= 0.3                              # toward the rim: wrinkled there
+    jet = base_jet(shell, x.ravel())
+    rest = rest_at_points(shell.meridian)
+    rest["regime"] = base_regime(shell, jet, rest)
+    wrinkled = rest["regime"] == WRINKLED
+    assert wrinkled.sum() >= 10
+    rng = np.random.default_rng(1)
+    sheared = jet + np.concatenate([np.zeros((len(jet), 3)),
+                                    0.05 * rng.standard_normal((len(jet), 6)),
+                                    np.zeros((len(jet), 9))], axis=1)
+    f = surface_density(shell, sheared, rest, 0.0, 0.0)
+    xs, xt = sheared[:, 3:6], sheared[:, 6:9]
+    big_r, metric = rest["radius"], rest["metric"]
+    c = np.empty((len(jet), 2, 2))
+    c[:, 0, 0] = np.sum(xs * xs, 1) / metric**2
+    c[:, 1, 1] = np.sum(xt * xt, 1) / big_r**2
+    c[:, 0, 1] = c[:, 1, 0] = np.sum(xs * xt, 1) / (metric * big_r)
+    major = np.linalg.eigvalsh(c)[:, 1]
+    expected = T * uniaxial_density(shell.law, 0.5 * (major - 1.0))[0] * metric * big_r
+    assert np.abs(f[wrinkled] - expected[wrinkled]).max() < 1e-12 * np.abs(expected).max()
+    assert np.abs(c[wrinkled, 0, 1]).min() > 1e-4
 
 
 def test_zoelly_sphere_buckles_at_the_classical_pressure_in_every_harmonic():

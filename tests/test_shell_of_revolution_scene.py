@@ -9,10 +9,11 @@ import pytest
 from fsi.cli import main
 from fsi.io.output import read_result
 from fsi.scene import SceneError, bundled_scenes, parse_scene
+from fsi.slosh.axisymmetric import free_surface_slosh
 
 SMALL = ('[scene]\nname = "axisymmetric"\nprocedure = "shell-of-revolution"\n'
          '[axisymmetric]\nelements = 48\nfills = [0.0, 0.025, 0.05]\nwave_numbers = 12\n'
-         'samples = 21\n')
+         'samples = 21\nslosh_fills = [0.05]\n')
 
 
 def test_the_scene_writes_both_legs_their_stability_and_the_onset(tmp_path, capsys):
@@ -21,7 +22,9 @@ def test_the_scene_writes_both_legs_their_stability_and_the_onset(tmp_path, caps
     stability by wave number (12 harmonics), the meridian's fields at 21 points (the pole on
     the axis, the rim on the tank wall) and units on every dataset; the events are the fill's
     and the drain's snaps and the onset of folding between 0.025 and 0.05 with 9 lobes; the
-    report prints the table and the events; three plots."""
+    n = 1 slosh mode at 0.05 (its lambda1 and slosh mass positive, the hinge inside the tank,
+    the free surface's the same as :func:`fsi.slosh.axisymmetric.free_surface_slosh`'s); the
+    report prints the tables and the events; four plots."""
     assert "diaphragm-axisymmetric" in bundled_scenes()
     scene = tmp_path / "axi.toml"
     scene.write_text(SMALL)
@@ -46,8 +49,20 @@ def test_the_scene_writes_both_legs_their_stability_and_the_onset(tmp_path, caps
             for name, ds in f[group].items():
                 assert ds.attrs["units"], f"{group}/{name}"
         assert f["axisymmetric_fill/harmonic_eigenvalue"].attrs["units"] == "1/s^2"
+    slosh = res["axisymmetric_slosh"]
+    assert np.allclose(slosh["tank_fraction"], [0.05])
+    assert slosh["lambda1"][0] > 0 and 0 < slosh["slosh_mass_fraction"][0] < 1
+    assert abs(slosh["hinge_height"][0]) < res["attrs"]["radius"]
+    assert list(slosh["stable"]) == [False]
+    free = free_surface_slosh(0.05, res["attrs"]["radius"], 1000.0, 9.81)
+    assert slosh["lambda1_free"][0] == pytest.approx(free.lambda1, rel=1e-12)
+    assert "n = 1 slosh on the fill's branch" in said
+    with h5py.File(tmp_path / "out" / "result.h5") as f:
+        for name, ds in f["axisymmetric_slosh"].items():
+            assert ds.attrs["units"], name
+        assert f["axisymmetric_slosh/hinge_height"].attrs["units"] == "m"
     assert sorted(p.name for p in (tmp_path / "out" / "plots").iterdir()) == [
-        "cross_sections.png", "level_by_fill.png", "stability_map.png"]
+        "cross_sections.png", "level_by_fill.png", "slosh_by_fill.png", "stability_map.png"]
 
 
 @pytest.mark.parametrize("text, key", [
@@ -56,6 +71,8 @@ def test_the_scene_writes_both_legs_their_stability_and_the_onset(tmp_path, caps
     ("[axisymmetric]\nelements = 2\n", "axisymmetric.elements"),
     ("[axisymmetric]\nwall_band = 0.5\n", "axisymmetric.wall_band"),
     ("[axisymmetric]\nwave_numbers = 0\n", "axisymmetric.wave_numbers"),
+    ("[axisymmetric]\nslosh_fills = [0.5, 0.3]\n", "axisymmetric.slosh_fills"),
+    ("[axisymmetric]\nfills = [0.0, 0.2]\nslosh_fills = [0.1]\n", "axisymmetric.slosh_fills"),
 ])
 def test_bad_axisymmetric_keys_are_named(text, key):
     with pytest.raises(SceneError, match=key.replace(".", r"\.")):

@@ -7,7 +7,10 @@
   between branches dotted and the onset of folding marked;
 * ``stability_map.png``: the fill's lowest eigenvalue omega^2 of each circumferential wave
   number n against the tank fraction (signed, symmetric log scale: red unstable), the onset
-  starred.
+  starred;
+* ``slosh_by_fill.png``: lambda1 of the n = 1 slosh mode against the tank fraction (log
+  scale; hollow where the branch is unstable to some harmonic) beside the free surface's,
+  and the slosh mass of each (when the run found the slosh modes).
 """
 from __future__ import annotations
 
@@ -101,9 +104,38 @@ def _stability_map(res: dict, path: Path) -> Path:
     return save(fig, path)
 
 
+def _slosh_by_fill(res: dict, path: Path) -> Path:
+    slosh = res["axisymmetric_slosh"]
+    f = np.asarray(slosh["tank_fraction"])
+    lam, free = np.asarray(slosh["lambda1"]), np.asarray(slosh["lambda1_free"])
+    stable = np.asarray(slosh["stable"], dtype=bool)
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2))
+    a.plot(f, free, "s--", color="0.4", mfc="none", label="free surface")
+    a.plot(f, lam, "-", color="tab:blue", lw=1)
+    a.plot(f[stable], lam[stable], "o", color="tab:blue", label="diaphragm (branch stable)")
+    a.plot(f[~stable], lam[~stable], "o", color="tab:blue", mfc="none",
+           label="diaphragm (branch unstable to some n)")
+    a.set(yscale="log", xlabel=TANK_FRACTION, ylabel="λ1 = ω² a / g",
+          title="n = 1 slosh mode on the fill's axisymmetric branch")
+    a.grid(alpha=0.3, which="both")
+    a.legend(fontsize=8)
+    b.plot(f, slosh["free_slosh_mass_fraction"], "s--", color="0.4", mfc="none",
+           label="free surface")
+    b.plot(f, slosh["slosh_mass_fraction"], "o-", color="tab:blue", ms=4, label="diaphragm")
+    b.set(xlabel=TANK_FRACTION, ylabel="slosh mass / liquid mass", ylim=(0, 1),
+          title="Slosh mass of that mode")
+    b.grid(alpha=0.3)
+    b.legend(fontsize=8)
+    fig.tight_layout()
+    return save(fig, path)
+
+
 @register_plots("shell-of-revolution")
 def axisymmetric_plots(res: dict, out: Path) -> list[Path]:
     """The plots of the module doc."""
-    return [_cross_sections(res, out / "cross_sections.png"),
-            _level_by_fill(res, out / "level_by_fill.png"),
-            _stability_map(res, out / "stability_map.png")]
+    paths = [_cross_sections(res, out / "cross_sections.png"),
+             _level_by_fill(res, out / "level_by_fill.png"),
+             _stability_map(res, out / "stability_map.png")]
+    if len(res.get("axisymmetric_slosh", {}).get("tank_fraction", [])):
+        paths.append(_slosh_by_fill(res, out / "slosh_by_fill.png"))
+    return paths

@@ -72,7 +72,9 @@ UNITS = {
     "meridian_radius": "m", "meridian_height": "m", "meridian_stretch": "1",
     "meridian_stress": "Pa", "meridian_moment": "N m/m", "meridian_arc_length": "m",
     "harmonic_eigenvalue": "1/s^2", "wave_number": "1", "critical_wave_number": "1",
-    "stable": "1", "axisymmetric_stable": "1", "lobes": "1",
+    "stable": "1", "axisymmetric_stable": "1", "lobes": "1", "lambda1_free": "1",
+    "free_slosh_mass_fraction": "1", "lambda1_lowest": "1", "lowest_slosh_mass_fraction": "1",
+    "wet_gap_order": "1",
 }
 
 UNIT_PREFIXES = {"deflection_": "m", "centre_deflection_": "m", "valid_": "1"}
@@ -124,6 +126,9 @@ GROUPS = {
     "axisymmetric_drain": "a shell-of-revolution run's drain, as axisymmetric_fill",
     "axisymmetric_events": "a shell-of-revolution run's snaps and onsets of folding, one row "
                            "each",
+    "axisymmetric_slosh": "a shell-of-revolution run's n = 1 slosh mode on the fill's branch, "
+                          "one record per slosh fill: lambda1, slosh mass, hinge height, and "
+                          "the free surface's at the same fill",
     "cycles": "the rainflow cycles of the stress of the most loaded triangles in a run in "
               "time, one row each",
 }

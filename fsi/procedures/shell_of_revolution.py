@@ -16,7 +16,12 @@ Writes, per leg (groups ``axisymmetric_fill`` and ``axisymmetric_drain``, one re
 fraction): the level, whether the state is stable to every harmonic, the lowest eigenvalue of
 each harmonic, the critical wave number, and the meridian at ``axisymmetric.samples`` points
 (radius, height, stretches, membrane stresses, moments); the snaps and the onsets of folding
-as rows of ``axisymmetric_events``. A leg that does not reach its end is a failed run (exit 3).
+as rows of ``axisymmetric_events``; at each of ``axisymmetric.slosh_fills`` the fill's n = 1
+slosh mode on the liquid's potential flow (``axisymmetric_slosh``:
+:func:`fsi.slosh.axisymmetric.fill_slosh`): lambda1 = omega^2 a / g, the slosh mass fraction,
+the pendulum's hinge height above the tank's centre, the lowest stable mode, the unstable
+n = 1 directions, whether the branch is stable to every harmonic, and the free surface's
+lambda1 and slosh mass at the same fill. A leg that does not reach its end is a failed run (exit 3).
 """
 from __future__ import annotations
 
@@ -31,7 +36,8 @@ from structure.model import Material
 from structure.stress import INCOMPRESSIBLE_POISSON_RATIO
 
 from fsi.lifecycle import Progress, Run, RunResult
-from fsi.registry import Key, Procedure, Table, register_procedure
+from fsi.registry import Key, Procedure, SceneError, Table, register_procedure
+from fsi.slosh.axisymmetric import fill_slosh
 from fsi.text import format_table
 
 
@@ -39,6 +45,20 @@ def _fills(v) -> bool:
     return (isinstance(v, list) and len(v) >= 2
             and all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v)
             and v[0] == 0 and all(0 <= a < b < 1 for a, b in zip(v, v[1:])))
+
+
+def _slosh_fills(v) -> bool:
+    return (isinstance(v, list)
+            and all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v)
+            and all(0 < c < 1 for c in v) and all(a < b for a, b in zip(v, v[1:])))
+
+
+def _check_slosh_fills(table: dict) -> None:
+    fills = np.asarray(table["fills"], dtype=float)
+    for f in table["slosh_fills"]:
+        if not np.any(np.abs(fills - f) <= 1e-9):
+            raise SceneError(f"scene key 'axisymmetric.slosh_fills' holds {f!r}, which is not "
+                             f"one of axisymmetric.fills: allowed, tank fractions of the fill")
 
 
 AXISYMMETRIC = Table({
@@ -57,7 +77,11 @@ AXISYMMETRIC = Table({
                         "the stability table's circumferential wave numbers n = 1 ... this"),
     "samples": Key(int, 121, lambda v: 3 <= v <= 10001, "integer 3..10001",
                    "points along the meridian at which each state's fields are written"),
-})
+    "slosh_fills": Key(list, [round(0.1 * k, 4) for k in range(1, 10)], _slosh_fills,
+                       "increasing tank fractions in (0, 1), each one of fills; [] for none",
+                       "tank fractions at which the fill's n = 1 slosh mode is found on the "
+                       "liquid's potential flow (fsi.slosh.axisymmetric)"),
+}, lambda table: _check_slosh_fills(table))
 """[axisymmetric]: the meridian grid, the wall, the fills and the stability table."""
 
 
@@ -96,13 +120,25 @@ def _record(shell, state, table, samples: np.ndarray) -> dict:
                 meridian_moment=fields["moment"])
 
 
+def _slosh_record(shell, load, state, table, fraction: float) -> dict:
+    row = fill_slosh(shell, state.equilibrium, fraction, load.liquid_density, load.gravity)
+    return dict(tank_fraction=row["tank_fraction"], lambda1=row["lambda1_full"],
+                slosh_mass_fraction=row["slosh_mass_fraction"], hinge_height=row["hinge"],
+                wet_gap_order=np.nan if row["wet_gap_order"] is None else row["wet_gap_order"],
+                lambda1_lowest=row["lambda1_lowest"],
+                lowest_slosh_mass_fraction=row["lowest_slosh_mass_fraction"],
+                unstable_directions=row["unstable_n1"], stable=bool(table.stable),
+                lambda1_free=row["lambda1_free"],
+                free_slosh_mass_fraction=row["free_slosh_mass_fraction"])
+
+
 def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
     """Fill, drain and the stability tables (module doc)."""
     table = setup.scene["axisymmetric"]
     shell, load = build(setup.scene)
     fills = np.asarray(table["fills"], dtype=float)
     end = fills[-1]
-    run = Run(progress, 3)
+    run = Run(progress, 4 if table["slosh_fills"] else 3)
 
     def report(part, f):
         done = f / end if part == "fill" else 1 + (end - f) / end
@@ -117,6 +153,12 @@ def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
         for state, stab in zip(states, tables):
             if state is not None:
                 run.record(name, _record(shell, state, stab, samples))
+    for k, f in enumerate(table["slosh_fills"]):
+        run.progress(3 + k / len(table["slosh_fills"]), f"slosh: tank fraction {f:.3f}")
+        j = int(np.argmin(np.abs(study.fractions - f)))
+        state, stab = study.fill.states[j], study.fill_tables[j]
+        if state is not None:
+            run.record("axisymmetric_slosh", _slosh_record(shell, load, state, stab, f))
     for snap in list(study.fill.snaps) + list(study.drain.snaps):
         run.record("axisymmetric_events", dict(
             event=np.bytes_(f"{snap.direction} snaps"), tank_fraction=snap.tank_fraction,
@@ -178,10 +220,34 @@ def headline(result: RunResult) -> None:
               + f" (level {float(events['pressure_level'][k]):.1f} Pa)")
 
 
+SLOSH_COLUMNS = [("tank fraction", "-"), ("lambda1", "-"), ("slosh mass", "-"),
+                 ("hinge", "m"), ("unstable n=1", "-"), ("branch stable", ""),
+                 ("lambda1 free", "-"), ("slosh mass free", "-")]
+"""The slosh table's columns: per slosh fill lambda1 = omega^2 a / g of the diaphragm's
+slosh mode, its slosh mass over the liquid's, its pendulum hinge above the tank's centre,
+the unstable n = 1 directions, whether the branch is stable to every harmonic, and the free
+surface's lambda1 and slosh mass at the same fill."""
+SLOSH_FORMATS = [".3f", ".4f", ".4f", ".4f", "d", "", ".4f", ".4f"]
+
+
+def slosh_rows(result: RunResult) -> list[tuple]:
+    """The slosh table's rows (:data:`SLOSH_COLUMNS`), one per slosh fill."""
+    g = result.groups.get("axisymmetric_slosh", {})
+    return [(float(f), float(g["lambda1"][k]), float(g["slosh_mass_fraction"][k]),
+             float(g["hinge_height"][k]), int(g["unstable_directions"][k]),
+             "yes" if g["stable"][k] else "no", float(g["lambda1_free"][k]),
+             float(g["free_slosh_mass_fraction"][k]))
+            for k, f in enumerate(g.get("tank_fraction", []))]
+
+
 def report(result: RunResult) -> None:
-    """The fill and drain table, then the events."""
+    """The fill and drain table, the events, then the slosh table."""
     print(format_table(COLUMNS, rows(result), FORMATS))
     headline(result)
+    slosh = slosh_rows(result)
+    if slosh:
+        print("\nn = 1 slosh on the fill's branch (lambda1 = omega^2 a / g):")
+        print(format_table(SLOSH_COLUMNS, slosh, SLOSH_FORMATS))
 
 
 PROCEDURE = register_procedure(Procedure(

@@ -423,3 +423,32 @@ def free_surface_slosh(tank_fraction: float, tank_radius: float, liquid_density:
     return axisymmetric_slosh(shell, shell.meridian.rest_state, liquid_density, gravity, 0.0,
                               volume, wet=shell.meridian.shape.length, offset=level,
                               tank_radius=a, fluid_cells=fluid_cells)
+
+
+def fill_slosh(shell: ShellOfRevolution, equilibrium, tank_fraction: float,
+               liquid_density: float, gravity: float) -> dict:
+    """The slosh row of one fill's axisymmetric ``equilibrium``
+    (:class:`structure.axisymmetric.solve.AxisymmetricEquilibrium`) at ``tank_fraction``:
+    ``lambda1_full`` = omega^2 a / g of the slosh mode, its ``slosh_mass_fraction`` (over the
+    liquid's mass) and ``hinge`` (m above the tank's centre), extrapolated in the wet part's
+    gap (:func:`converged_slosh`) with ``wet_gap_order``; ``lambda1_lowest`` and
+    ``lowest_slosh_mass_fraction``, the lowest stable mode's at the finest gap;
+    ``unstable_n1``, the directions of negative stiffness in n = 1; ``lambda1_free`` and
+    ``free_slosh_mass_fraction``, the free surface's at the same fill
+    (:func:`free_surface_slosh`)."""
+    a = shell.radius
+    e = equilibrium
+    volume = tank_fraction * 4.0 / 3.0 * np.pi * a**3
+    slosh = converged_slosh(shell, e.state, liquid_density, gravity,
+                            e.pressure - e.pressure_level, volume)
+    finest = slosh.by_gap[-1]
+    lowest = int(np.argmax(finest.omega2 > 0))
+    free = free_surface_slosh(tank_fraction, a, liquid_density, gravity)
+    return dict(tank_fraction=float(tank_fraction), lambda1_full=slosh.lambda1,
+                slosh_mass_fraction=slosh.slosh_mass_fraction, hinge=slosh.hinge,
+                wet_gap_order=slosh.observed_order,
+                lambda1_lowest=float(finest.lam[lowest]),
+                lowest_slosh_mass_fraction=float(finest.slosh_mass[lowest]
+                                                 / finest.liquid_mass),
+                unstable_n1=slosh.unstable, lambda1_free=free.lambda1,
+                free_slosh_mass_fraction=free.slosh_mass_fraction)

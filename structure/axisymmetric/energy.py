@@ -86,7 +86,8 @@ def internal_density(shell: ShellOfRevolution, u: np.ndarray, rest: dict, order:
     mat = shell.material
     out = strains(u, rest, order)
     q, derivatives = (out, ()) if order == 0 else (out[0], out[1:])
-    w, wc, wcc = membrane_density(shell.law, q[:, ES], q[:, ET], shell.tension_field)
+    w, wc, wcc = membrane_density(shell.law, q[:, ES], q[:, ET], shell.tension_field,
+                                  shell.residual_stiffness)
     b, bk, bkk = bending_density(shell.flexural_rigidity, mat.poisson_ratio, q[:, KS], q[:, KT])
     area, t = rest["area"], mat.thickness
     f = area * (t * w + b)

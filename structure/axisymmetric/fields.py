@@ -46,8 +46,11 @@ def _stresses(shell: ShellOfRevolution, stretch: np.ndarray, resultant: np.ndarr
     t = shell.material.thickness
     if isinstance(shell.law, HyperelasticLaw):
         order = np.argsort(-stretch, axis=1)
-        sigma, lam3 = incompressible_stress(shell.law, np.take_along_axis(stretch, order, 1),
-                                            shell.tension_field)
+        ordered = np.take_along_axis(stretch, order, 1)
+        sigma, lam3 = incompressible_stress(shell.law, ordered, shell.tension_field)
+        if shell.tension_field and shell.residual_stiffness > 0:
+            full, _ = incompressible_stress(shell.law, ordered, False)
+            sigma = (1 - shell.residual_stiffness) * sigma + shell.residual_stiffness * full
         back = np.empty_like(sigma)
         np.put_along_axis(back, order, sigma, 1)
         return back, t * lam3
@@ -75,7 +78,8 @@ def meridian_fields(shell: ShellOfRevolution, state: np.ndarray,
     with np.errstate(divide="ignore", invalid="ignore"):
         q = strains(u, rest, order=0)
     q[pole] = pole_limits(u[pole], {k: v[pole] for k, v in rest.items()})
-    _, stress_2pk, _ = membrane_density(shell.law, q[:, ES], q[:, ET], shell.tension_field)
+    _, stress_2pk, _ = membrane_density(shell.law, q[:, ES], q[:, ET], shell.tension_field,
+                                        shell.residual_stiffness)
     stretch = np.sqrt(1.0 + 2.0 * q[:, [ES, ET]])
     resultant = shell.material.thickness * stress_2pk * stretch / stretch[:, ::-1]
     _, moment, _ = bending_density(shell.flexural_rigidity, shell.material.poisson_ratio,

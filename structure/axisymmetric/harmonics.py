@@ -61,6 +61,7 @@ from scipy.sparse.linalg import LinearOperator, eigsh
 from ..hyperelastic import HyperelasticLaw, SaintVenantKirchhoff
 from .continuation import factor_symmetric
 from .energy import rest_at_points
+from .laws import TAUT, WRINKLED, regimes, uniaxial_density
 from .meridian import local_variables
 from .model import ShellOfRevolution
 from .wall import barrier
@@ -85,8 +86,11 @@ def _cross(a, b):
                      a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], -1)
 
 
-def _membrane(law, c11, c12, c22):
-    """W (Pa) of ``law`` at C (complex-safe)."""
+def _membrane(law, c11, c12, c22, regime=None, residual=0.0):
+    """W (Pa) of ``law`` at C (complex-safe); relaxed by the tension field where ``regime``
+    (...) is given, keeping the fraction ``residual`` of the law (:func:`_relaxed`)."""
+    if regime is not None:
+        return _relaxed(law, c11, c12, c22, regime, residual)
     if isinstance(law, SaintVenantKirchhoff):
         nu = law.poisson_ratio
         k = law.youngs_modulus / (1 - nu * nu)
@@ -100,6 +104,28 @@ def _membrane(law, c11, c12, c22):
     raise TypeError(f"no surface law for {type(law).__name__}")
 
 
+def _relaxed(law, c11, c12, c22, regime, residual=0.0):
+    """The tension field's relaxed W (Pa) at C (complex-safe), each point in the ``regime``
+    (...) of the axisymmetric state it varies about (:func:`structure.axisymmetric.laws.regimes`):
+    taut, the law; slack, zero; wrinkled, the uniaxial energy
+    (:func:`structure.axisymmetric.laws.uniaxial_density`) at the larger principal value
+    c_1 = (c11 + c22) / 2 + sqrt(((c11 - c22) / 2)^2 + c12^2) of C. A wrinkled point's
+    principal values are distinct (c_2 < c_1^(-1/2) < c_1), so c_1 is analytic there and its
+    second derivative in c12, 1 / (c_1 - c_2), gives the tension field's shear stiffness
+    sigma_1 / (c_1 - c_2) (the wrinkles turn with the tension). The regime is held at the
+    state's: the relaxed energy's Hessian jumps across a regime's boundary, and the second
+    variation is the one-sided one of the state's side. ``residual``: the fraction of the
+    law kept (:class:`~structure.axisymmetric.model.ShellOfRevolution`)."""
+    taut = _membrane(law, c11, c12, c22)
+    half = 0.5 * (c11 - c22)
+    major = 0.5 * (c11 + c22) + np.sqrt(half * half + c12 * c12 + 0j)
+    wrinkled = uniaxial_density(law, 0.5 * (major - 1.0))[0]
+    if not np.iscomplexobj(taut):
+        wrinkled = wrinkled.real
+    relaxed = np.where(regime == TAUT, taut, np.where(regime == WRINKLED, wrinkled, 0.0))
+    return relaxed if residual == 0.0 else (1.0 - residual) * relaxed + residual * taut
+
+
 def surface_density(shell: ShellOfRevolution, jet: np.ndarray, rest: dict, liquid: float,
                     net_pressure: float) -> np.ndarray:
     """f(J) (...) J per unit S and theta (module doc) at jets ``jet`` (..., P, 18), real or
@@ -111,7 +137,8 @@ def surface_density(shell: ShellOfRevolution, jet: np.ndarray, rest: dict, liqui
     big_r, a = rest["radius"], rest["metric"]
     c11, c12, c22 = _dot(xs, xs) / a**2, _dot(xs, xt) / (a * big_r), _dot(xt, xt) / big_r**2
     mat = shell.material
-    f = mat.thickness * _membrane(shell.law, c11, c12, c22)
+    f = mat.thickness * _membrane(shell.law, c11, c12, c22, rest.get("regime"),
+                                     shell.residual_stiffness)
     cross = _cross(xs, xt)
     if shell.flexural_rigidity > 0:
         normal = cross / np.sqrt(_dot(cross, cross))[..., None]
@@ -149,6 +176,15 @@ def base_jet(shell: ShellOfRevolution, state: np.ndarray) -> np.ndarray:
                      -r, zero, zero], -1)
 
 
+def base_regime(shell: ShellOfRevolution, jet: np.ndarray, rest: dict) -> np.ndarray:
+    """(P,) int: the tension field's regime (:func:`structure.axisymmetric.laws.regimes`) of
+    the axisymmetric state of ``jet`` (P, 18) at the Gauss points."""
+    xs, xt = jet[:, 3:6], jet[:, 6:9]
+    es = 0.5 * (_dot(xs, xs) / rest["metric"] ** 2 - 1.0)
+    et = 0.5 * (_dot(xt, xt) / rest["radius"] ** 2 - 1.0)
+    return regimes(shell.law, es, et)
+
+
 def wall_hessian(shell: ShellOfRevolution, jet: np.ndarray, rest: dict) -> np.ndarray:
     """(P, 3, 3): the barrier's Hessian in x (J/m^2 per unit S and theta) in closed form:
     A R kappa [b'' n n^T + b' (I - n n^T) / |x|], n = x / |x| (module doc)."""
@@ -170,6 +206,8 @@ def jet_hessian(shell: ShellOfRevolution, state: np.ndarray, liquid: float,
     doc), symmetrised."""
     jet = base_jet(shell, state)
     rest = rest_at_points(shell.meridian)
+    if shell.tension_field:
+        rest["regime"] = base_regime(shell, jet, rest)
     steps = _steps(shell.radius)
     p = len(jet)
     h_complex = 1e-30
@@ -262,10 +300,6 @@ def harmonic_stiffness(shell: ShellOfRevolution, state: np.ndarray, liquid: floa
     """The second variation of ``shell`` at the axisymmetric equilibrium ``state`` (4 n,)
     under the liquid's weight density ``liquid`` rho g (N/m^3) and net pressure mu (Pa), for
     every n >= 1 (module doc)."""
-    if shell.tension_field:
-        raise NotImplementedError("the harmonics' second variation needs the full law (the "
-                                  "tension field's relaxed energy is not smooth away from "
-                                  "axisymmetry)")
     hess = jet_hessian(shell, state, liquid, net_pressure)
     pa, pb = _jet_maps(0)
     powers = []

@@ -31,6 +31,13 @@ E_1 >= E_2 the larger and smaller of (E_s, E_t), a point is
   :func:`structure.xpbd.kernels.tension_field_regime`, on the Green strains);
 * slack when the larger stretch is <= 1: no energy.
 
+A sheet relaxed this way resists the hoop compression of a fold by its bending alone, and
+Newton's tangent nearly loses rank where it goes slack: on the Table 4.1 diaphragm, Newton on
+the pure relaxed energy does not converge from the full law's equilibrium, nor from rest on
+256 elements. ``residual`` keeps a fraction e of the law, (1 - e) W_relaxed + e W (the
+regularisation of tension-field computations), and the pure relaxed
+state is the limit e -> 0 (:attr:`~structure.axisymmetric.model.ShellOfRevolution.residual_stiffness`).
+
 The relaxed energy is C1 across the regimes (the relaxed stress vanishes at each boundary);
 its Hessian jumps there.
 """
@@ -43,7 +50,7 @@ from ..model import Material
 from ..shell import MEMBRANE_LAWS
 from ..xpbd.kernels import SLACK, TAUT, WRINKLED
 
-__all__ = ["membrane_density", "regimes", "bending_density", "law_of", "TAUT", "WRINKLED",
+__all__ = ["membrane_density", "regimes", "uniaxial_density", "bending_density", "law_of", "TAUT", "WRINKLED",
            "SLACK"]
 
 
@@ -90,9 +97,10 @@ def _yeoh(law: HyperelasticLaw, es, et):
         + w1[..., None, None] * ddi
 
 
-def _uniaxial(law, e1):
-    """The wrinkled energy (Pa) of the larger strain E_1 and its first and second
-    derivatives."""
+def uniaxial_density(law, e1):
+    """(W, dW/dE_1, d2W/dE_1^2) (Pa) of uniaxial tension at the larger Green strain E_1
+    (...), the smaller stretch relaxed to its natural width (module doc): the wrinkled
+    energy. Complex-safe."""
     if isinstance(law, SaintVenantKirchhoff):
         y = law.youngs_modulus
         return 0.5 * y * e1 * e1, y * e1, y + 0.0 * e1
@@ -115,9 +123,11 @@ def regimes(law, es: np.ndarray, et: np.ndarray) -> np.ndarray:
     return np.where(e1 <= 0.0, SLACK, np.where(compressed, WRINKLED, TAUT))
 
 
-def membrane_density(law, es: np.ndarray, et: np.ndarray, tension_field: bool = False):
+def membrane_density(law, es: np.ndarray, et: np.ndarray, tension_field: bool = False,
+                     residual: float = 0.0):
     """(W (...) Pa, dW/dE (..., 2) Pa, d2W/dE2 (..., 2, 2) Pa) of ``law`` at the Green
-    strains E = (E_s, E_t) (...), relaxed when ``tension_field`` (module doc)."""
+    strains E = (E_s, E_t) (...), relaxed when ``tension_field`` (module doc), with the
+    fraction ``residual`` of the law kept: (1 - residual) W_relaxed + residual W."""
     es, et = np.asarray(es, dtype=float), np.asarray(et, dtype=float)
     if isinstance(law, SaintVenantKirchhoff):
         w, g, h = _svk(law, es, et)
@@ -127,10 +137,13 @@ def membrane_density(law, es: np.ndarray, et: np.ndarray, tension_field: bool = 
         raise TypeError(f"no axisymmetric membrane law for {type(law).__name__}")
     if not tension_field:
         return w, g, h
+    if residual > 0.0:
+        relaxed = membrane_density(law, es, et, True)
+        return tuple((1.0 - residual) * r + residual * f for r, f in zip(relaxed, (w, g, h)))
     regime = regimes(law, es, et)
     wrinkled, slack = regime == WRINKLED, regime == SLACK
     with np.errstate(invalid="ignore", divide="ignore"):
-        wu, gu, hu = _uniaxial(law, np.maximum(es, et))
+        wu, gu, hu = uniaxial_density(law, np.maximum(es, et))
     w = np.where(wrinkled, wu, np.where(slack, 0.0, w))
     relaxed = (wrinkled | slack)
     major = np.stack([es >= et, es < et], -1) & wrinkled[..., None]

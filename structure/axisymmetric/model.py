@@ -29,7 +29,9 @@ class ShellOfRevolution:
     :class:`structure.model.Material`; law : the membrane law; support : the rim's, one of
     :data:`structure.axisymmetric.supports.SUPPORTS`; bending : include the bending energy;
     wall : the tank wall's barrier (:class:`~structure.axisymmetric.wall.BarrierWall`), or
-    None (no contact). ``admissible``
+    None (no contact); residual_stiffness : under the tension field, the fraction of the
+    full law kept, (1 - e) W_relaxed + e W, in [0, 1) (0 the pure tension field;
+    :mod:`~structure.axisymmetric.laws`). ``admissible``
     (:class:`~structure.axisymmetric.supports.Admissible`) is derived."""
 
     meridian: Meridian
@@ -38,6 +40,7 @@ class ShellOfRevolution:
     support: str = "clamped"
     bending: bool = True
     wall: Optional[BarrierWall] = None
+    residual_stiffness: float = 0.0
     admissible: Admissible = field(init=False, repr=False)
 
     def __post_init__(self):
@@ -45,6 +48,9 @@ class ShellOfRevolution:
                 self.law.poisson_ratio != self.material.poisson_ratio:
             raise ValueError(f"the law's Poisson ratio {self.law.poisson_ratio} is not the "
                              f"material's {self.material.poisson_ratio}")
+        if not 0.0 <= self.residual_stiffness < 1.0:
+            raise ValueError(f"residual_stiffness must be in [0, 1), got "
+                             f"{self.residual_stiffness}")
         object.__setattr__(self, "admissible", admissible(self.meridian, self.support))
 
     @property
