@@ -18,7 +18,10 @@ writes it to ``docs/data/diaphragm_axisymmetric.json``) and draws
   whether each leg's state is stable to every harmonic n = 1 ... 30); ``snaps``; ``onset``
   {``tank_fraction``, ``lobes``} on the fill and ``drain_onset`` on the drain;
   ``stability_map``, the lowest eigenvalue (1/s^2) of every harmonic at every fraction of
-  each leg; ``seconds`` of the whole run and of its parts;
+  each leg; ``seconds`` of the whole run and ``seconds_parts`` of its parts;
+  ``seconds_slosh``, the full law's slosh table with the free surface's, and
+  ``seconds_goal``, the two together (the run with its n = 1 modes);
+  ``seconds_tension_field``, the tension field's fills and slosh;
 * ``slosh_table``, one row per tank fraction of :data:`SLOSH_FRACTIONS` on the fill's branch
   (:func:`fsi.slosh.axisymmetric.converged_slosh`): ``lambda1_full`` = omega^2 a / g of the
   slosh mode (the largest slosh mass), ``slosh_mass_fraction`` (over the liquid's mass) and
@@ -62,7 +65,8 @@ from structure.model import Material
 
 #: the JSON's top-level keys the documentation reads
 DOC_FIELDS = ("grid_study", "onset", "drain_onset", "snaps", "fills", "seconds",
-              "stability_map", "elements", "slosh_table", "limp_check", "seconds_slosh")
+              "stability_map", "elements", "slosh_table", "limp_check", "seconds_slosh",
+              "seconds_parts", "seconds_tension_field", "seconds_goal")
 #: meridian grids (elements) of the grid study, and of --smoke
 GRIDS = (64, 96, 128, 192, 256, 384)
 SMOKE_GRIDS = (16, 32, 64)
@@ -203,10 +207,10 @@ def tension_field_rows(shell, load, fractions, residuals) -> dict:
     return out
 
 
-def slosh_rows(shell, load, study, fractions, residuals) -> tuple[list, list]:
-    """(slosh_table, limp_check) at ``fractions`` on the fill's branch (module doc)."""
+def slosh_rows(shell, load, study, fractions, relaxed) -> tuple[list, list]:
+    """(slosh_table, limp_check) at ``fractions`` on the fill's branch (module doc), with the
+    tension field's rows ``relaxed`` (:func:`tension_field_rows`)."""
     reference = _reference()
-    relaxed = tension_field_rows(shell, load, fractions, residuals)
     table, limp = [], []
     for f in fractions:
         k = int(np.argmin(np.abs(study.fractions - f)))
@@ -259,10 +263,13 @@ def main(argv=None) -> dict:
             lowest_eigenvalue=None if ta is None else float(ta.eigenvalue[critical]),
             fill_stable=None if ta is None else ta.stable,
             drain_stable=None if tb is None else tb.stable))
+    slosh_fractions = SMOKE_SLOSH_FRACTIONS if args.smoke else SLOSH_FRACTIONS
     began = time.perf_counter()
-    slosh_table, limp_check = slosh_rows(
-        shell, load, study, SMOKE_SLOSH_FRACTIONS if args.smoke else SLOSH_FRACTIONS,
-        SMOKE_TENSION_RESIDUALS if args.smoke else TENSION_RESIDUALS)
+    relaxed = tension_field_rows(shell, load, slosh_fractions,
+                                 SMOKE_TENSION_RESIDUALS if args.smoke else TENSION_RESIDUALS)
+    seconds_tension_field = time.perf_counter() - began
+    began = time.perf_counter()
+    slosh_table, limp_check = slosh_rows(shell, load, study, slosh_fractions, relaxed)
     seconds_slosh = time.perf_counter() - began
     snaps = [dict(direction=s.direction, tank_fraction=s.tank_fraction,
                   level_before=s.level_before, level_after=s.level_after)
@@ -280,6 +287,8 @@ def main(argv=None) -> dict:
                snaps=snaps, fills=fills, grid_study=study_grid,
                slosh_table=slosh_table, limp_check=limp_check,
                seconds_slosh=round(seconds_slosh, 2),
+               seconds_tension_field=round(seconds_tension_field, 2),
+               seconds_goal=round(seconds + seconds_slosh, 2),
                stability_map=dict(
                    wave_numbers=[int(n) for n in study.fill_tables[0].wave_numbers],
                    fill=[None if t is None else [float(v) for v in t.eigenvalue]

@@ -33,6 +33,11 @@ from .solve import AxisymmetricEquilibrium, NewtonSettings, equilibrium
 from .wall import pulled_inside
 
 
+GROW_AFTER = 2
+"""A leg's step doubles (up to the fractions' spacing) after this many successes in a row at
+its size: a step that had to be halved is not retried at once at the size that failed."""
+
+
 @dataclass(frozen=True)
 class Snap:
     """A snap at a limit point of the volume: ``direction`` (fill or drain); the limit's
@@ -120,16 +125,18 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
     snaps = []
     here, f_here, negative = start, float(fractions[0]), states[0].negative
     spacing = float(np.abs(np.diff(fractions)).max()) if len(fractions) > 1 else 0.0
-    size = spacing
+    size, successes = spacing, 0
     for target in fractions[1:]:
         while sign * (target - f_here) > 1e-15:
             f = f_here + sign * min(size, abs(target - f_here))
             result = next_state(shell, load, here, f, newton)
             if result is not None:
                 here, f_here, negative = result, f, 0       # next_state's are stable
-                size = min(2.0 * size, spacing)
+                successes += 1
+                if successes >= GROW_AFTER:
+                    size, successes = min(2.0 * size, spacing), 0
                 continue
-            size *= 0.5
+            size, successes = 0.5 * size, 0
             if size >= smallest:
                 continue
             landed = _snap(shell, load, here, f_here, target, sign, settings, newton, jump)
