@@ -364,3 +364,23 @@ def test_a_residual_stiffness_outside_zero_to_one_is_refused(residual):
     shell = _table_4_1(8)
     with pytest.raises(ValueError, match="residual_stiffness"):
         replace(shell, residual_stiffness=residual)
+
+
+def test_a_state_carried_onto_the_3d_grid():
+    """:func:`structure.axisymmetric.mapping.surface_points` on the App. C hemisphere grid
+    (N = 14): the rest state returns the rest points (within the cubic Hermite meridian's
+    interpolation of the sphere, 1e-7 a on 32 elements, measured 1.4e-8 a); a state scaled
+    by 1.1 about the tank's centre returns them scaled by 1.1; the n = 1 harmonic U = 1,
+    V = -1, W = 0 (a translation across the axis) moves every point by its amplitude along
+    x."""
+    from structure.axisymmetric.mapping import surface_points
+    from structure.grid import hemisphere_grid
+    shell = _table_4_1(32)
+    rest = hemisphere_grid(14, A)
+    state = shell.meridian.rest_state
+    assert np.abs(surface_points(shell, state, rest) - rest).max() < 1e-7 * A
+    assert np.abs(surface_points(shell, 1.1 * state, rest) - 1.1 * rest).max() < 1.1e-7 * A
+    mode = np.zeros((shell.meridian.nodes, 6))
+    mode[:, 0], mode[:, 2] = 1.0, -1.0
+    moved = surface_points(shell, state, rest, mode.ravel(), 1, 2e-3)
+    assert np.abs(moved - rest - np.array([2e-3, 0.0, 0.0])).max() < 1e-7 * A
