@@ -5,7 +5,9 @@ drain converged in the meridian grid, where it starts to fold and with how many 
 
 The diaphragm: the thesis's hemisphere of the tank's radius (E = 8.6 MPa, t = 1.778 mm,
 incompressible neo-Hookean, clamped at the equator, its own weight), water below it, inside
-the tank's wall (a barrier with a band of 1e-4 a). Prints one JSON object (a full run also
+the tank's wall (a barrier with a band of 1e-4 a). The stability tables, the onsets and the
+slosh rows run over the machine's cores (:func:`structure.parallel.process_map`). Prints one
+JSON object (a full run also
 writes it to ``docs/data/diaphragm_axisymmetric.json``) and draws
 ``benchmarks/output/diaphragm_axisymmetric.png``:
 
@@ -55,7 +57,7 @@ import numpy as np
 from _report import DOCS_DATA, SMOKE_HELP, emit, output_dir
 from fsi.constants import (MEMBRANE_DENSITY, MEMBRANE_THICKNESS, MEMBRANE_YOUNGS_MODULUS,
                            STANDARD_GRAVITY, TANK_RADIUS, WATER_DENSITY)
-from fsi.slosh.axisymmetric import converged_slosh, fill_slosh
+from fsi.slosh.axisymmetric import converged_slosh, fill_slosh_table
 from structure.axisymmetric import (AxisymmetricLoad, barrier_wall, law_of, leg,
                                     shell_of_revolution)
 from structure.axisymmetric.folding import onset_of_folding, stability_table
@@ -212,12 +214,16 @@ def slosh_rows(shell, load, study, fractions, relaxed) -> tuple[list, list]:
     tension field's rows ``relaxed`` (:func:`tension_field_rows`)."""
     reference = _reference()
     table, limp = [], []
+    picked = []
     for f in fractions:
         k = int(np.argmin(np.abs(study.fractions - f)))
-        state, stab = study.fill.states[k], study.fill_tables[k]
-        if state is None or abs(study.fractions[k] - f) > 1e-9:
-            continue
-        row = fill_slosh(shell, state.equilibrium, f, load.liquid_density, load.gravity)
+        if study.fill.states[k] is not None and abs(study.fractions[k] - f) <= 1e-9:
+            picked.append((f, k))
+    rows = fill_slosh_table(shell, [study.fill.states[k].equilibrium for _, k in picked],
+                            [f for f, _ in picked], load.liquid_density, load.gravity,
+                            workers=None)
+    for (f, k), row in zip(picked, rows):
+        stab = study.fill_tables[k]
         row.update(branch_stable=None if stab is None else stab.stable,
                    lambda1_tension_field=_first(relaxed[float(f)]["lambda1"]),
                    tension_field=relaxed[float(f)],
@@ -249,7 +255,8 @@ def main(argv=None) -> dict:
                       if all(r["onset"] for r in chosen) else None)
     shell, load = diaphragm(SMOKE_RUN_GRID if args.smoke else RUN_GRID)
     began = time.perf_counter()
-    study = fill_and_drain(shell, load, SMOKE_FRACTIONS if args.smoke else FRACTIONS)
+    study = fill_and_drain(shell, load, SMOKE_FRACTIONS if args.smoke else FRACTIONS,
+                           workers=None)
     seconds = time.perf_counter() - began
     fills = []
     for f, a, b, ta, tb in zip(study.fractions, study.fill.states, study.drain_states,

@@ -160,8 +160,8 @@ def test_the_harmonics_n0_is_the_axisymmetric_hessian():
     jet by complex step and central difference, gives at n = 0 with V = 0 the axisymmetric
     Hessian of the meridian's energy (assembled analytically) at a perturbed, loaded,
     non-equilibrium hemisphere, for the incompressible law and Saint Venant-Kirchhoff, to
-    1e-6 of its largest entry (measured 4e-8 and 1.4e-8); relaxed by the tension field, with
-    taut, wrinkled and slack points, likewise (measured 4.9e-7 and 1.4e-8)."""
+    1e-6 of its largest entry (measured 2e-9 and 1.8e-10); relaxed by the tension field, with
+    taut, wrinkled and slack points, likewise (measured 1e-10 and 1.8e-10)."""
     from structure.axisymmetric.harmonics import axisymmetric_hessian
     rng = np.random.default_rng(0)
     for name, nu, wrinkling in (("neo-hookean", 0.5, "none"),

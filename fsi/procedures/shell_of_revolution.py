@@ -10,7 +10,8 @@ cubic Hermite elements, inside the tank's wall (a barrier whose band is
 ``axisymmetric.wall_band`` a), its own weight and the liquid below it. Fill from rest through
 the tank fractions ``axisymmetric.fills`` and drain back
 (:func:`structure.axisymmetric.study.fill_and_drain`); the stability table by n = 1 ...
-``axisymmetric.wave_numbers``.
+``axisymmetric.wave_numbers``. The stability tables and the slosh modes are spread over the
+machine's cores (:func:`structure.parallel.process_map`).
 
 Writes, per leg (groups ``axisymmetric_fill`` and ``axisymmetric_drain``, one record per tank
 fraction): the level, whether the state is stable to every harmonic, the lowest eigenvalue of
@@ -37,7 +38,7 @@ from structure.stress import INCOMPRESSIBLE_POISSON_RATIO
 
 from fsi.lifecycle import Progress, Run, RunResult
 from fsi.registry import Key, Procedure, SceneError, Table, register_procedure
-from fsi.slosh.axisymmetric import fill_slosh
+from fsi.slosh.axisymmetric import fill_slosh_table
 from fsi.text import format_table
 
 
@@ -120,8 +121,7 @@ def _record(shell, state, table, samples: np.ndarray) -> dict:
                 meridian_moment=fields["moment"])
 
 
-def _slosh_record(shell, load, state, table, fraction: float) -> dict:
-    row = fill_slosh(shell, state.equilibrium, fraction, load.liquid_density, load.gravity)
+def _slosh_record(row: dict, table) -> dict:
     return dict(tank_fraction=row["tank_fraction"], lambda1=row["lambda1_full"],
                 slosh_mass_fraction=row["slosh_mass_fraction"], hinge_height=row["hinge"],
                 wet_gap_order=np.nan if row["wet_gap_order"] is None else row["wet_gap_order"],
@@ -144,7 +144,8 @@ def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
         done = f / end if part == "fill" else 1 + (end - f) / end
         run.progress(done, f"{part}: tank fraction {f:.3f}")
 
-    study = fill_and_drain(shell, load, fills, range(1, table["wave_numbers"] + 1), report)
+    study = fill_and_drain(shell, load, fills, range(1, table["wave_numbers"] + 1), report,
+                           workers=None)
     run.progress(3, "stability by wave number")
     samples = np.linspace(0.0, shell.meridian.shape.length, table["samples"])
     for name, states, tables in (("axisymmetric_fill", study.fill.states, study.fill_tables),
@@ -153,12 +154,15 @@ def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
         for state, stab in zip(states, tables):
             if state is not None:
                 run.record(name, _record(shell, state, stab, samples))
-    for k, f in enumerate(table["slosh_fills"]):
-        run.progress(3 + k / len(table["slosh_fills"]), f"slosh: tank fraction {f:.3f}")
-        j = int(np.argmin(np.abs(study.fractions - f)))
-        state, stab = study.fill.states[j], study.fill_tables[j]
-        if state is not None:
-            run.record("axisymmetric_slosh", _slosh_record(shell, load, state, stab, f))
+    picked = [(f, int(np.argmin(np.abs(study.fractions - f)))) for f in table["slosh_fills"]]
+    picked = [(f, j) for f, j in picked if study.fill.states[j] is not None]
+    if picked:
+        run.progress(3, f"slosh at {len(picked)} fills")
+    rows = fill_slosh_table(shell, [study.fill.states[j].equilibrium for _, j in picked],
+                            [f for f, _ in picked], load.liquid_density, load.gravity,
+                            workers=None)
+    for (f, j), row in zip(picked, rows):
+        run.record("axisymmetric_slosh", _slosh_record(row, study.fill_tables[j]))
     for snap in list(study.fill.snaps) + list(study.drain.snaps):
         run.record("axisymmetric_events", dict(
             event=np.bytes_(f"{snap.direction} snaps"), tank_fraction=snap.tank_fraction,

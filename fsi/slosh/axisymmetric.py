@@ -48,6 +48,7 @@ pendulums hinge at its centre.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property, partial
 from typing import Callable, Optional
 
 import numpy as np
@@ -65,6 +66,7 @@ from structure.axisymmetric.hermite import gauss_rule, hermite_basis
 from structure.axisymmetric.meridian import locate
 from structure.axisymmetric.model import ShellOfRevolution, shell_of_revolution
 from structure.hyperelastic import SaintVenantKirchhoff
+from structure.parallel import process_map
 from structure.model import Material
 
 CONTACT_GAP = 1e-3
@@ -230,6 +232,16 @@ class SheetOperators:
     translation: np.ndarray
     rotation: np.ndarray
 
+    @cached_property
+    def reduced_stiffness(self) -> np.ndarray:
+        """T^T K_1 T, a dense matrix of the admitted values' count squared."""
+        return (self.basis.T @ self.stiffness @ self.basis).toarray()
+
+    @cached_property
+    def reduced_mass(self) -> np.ndarray:
+        """T^T M T, a dense matrix of the admitted values' count squared."""
+        return (self.basis.T @ self.mass @ self.basis).toarray()
+
 
 def sheet_operators(shell: ShellOfRevolution, state: np.ndarray, liquid_weight: float,
                     net_pressure: float, centre: float = 0.0) -> SheetOperators:
@@ -330,9 +342,9 @@ def axisymmetric_slosh(shell: ShellOfRevolution, state: np.ndarray, liquid_densi
                                 centre - offset)
     values, block = added_mass(potential, coupling.trace, liquid_density)
     t = sheet.basis
-    tw = t[values].toarray()                                            # (wet, k)
-    k = (t.T @ sheet.stiffness @ t).toarray()
-    m = (t.T @ sheet.mass @ t).toarray() + tw.T @ block @ tw
+    tw = t[values]                                                      # (wet, k) CSR
+    k = sheet.reduced_stiffness
+    m = sheet.reduced_mass + (tw.T @ (tw.T @ block).T).T
     omega2, reduced = _eigenpairs(k, m, modes, gravity / a)
     full = (t @ reduced).T                                              # (k, 6 n)
     load = np.pi * liquid_density * coupling.moment + sheet.mass @ sheet.translation
@@ -452,3 +464,16 @@ def fill_slosh(shell: ShellOfRevolution, equilibrium, tank_fraction: float,
                                                  / finest.liquid_mass),
                 unstable_n1=slosh.unstable, lambda1_free=free.lambda1,
                 free_slosh_mass_fraction=free.slosh_mass_fraction)
+
+
+def _fill_slosh_item(shell, liquid_density, gravity, item):
+    return fill_slosh(shell, item[0], item[1], liquid_density, gravity)
+
+
+def fill_slosh_table(shell: ShellOfRevolution, equilibria, tank_fractions,
+                     liquid_density: float, gravity: float,
+                     workers: Optional[int] = 1) -> list[dict]:
+    """:func:`fill_slosh` at each of the ``equilibria`` and its tank fraction, over ``workers``
+    processes (:func:`structure.parallel.process_map`; None: every core)."""
+    return process_map(partial(_fill_slosh_item, shell, liquid_density, gravity),
+                       list(zip(equilibria, tank_fractions)), workers)

@@ -121,7 +121,8 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
     fractions = np.asarray(fractions, dtype=float)
     direction = "fill" if fractions[-1] > fractions[0] else "drain"
     sign = 1.0 if direction == "fill" else -1.0
-    states = [LegState(float(fractions[0]), start, 0, _tangent(shell, load, start)[2])]
+    tangent = _tangent(shell, load, start)          # of ``here``, while it is known
+    states = [LegState(float(fractions[0]), start, 0, tangent[2])]
     snaps = []
     here, f_here, negative = start, float(fractions[0]), states[0].negative
     spacing = float(np.abs(np.diff(fractions)).max()) if len(fractions) > 1 else 0.0
@@ -129,9 +130,10 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
     for target in fractions[1:]:
         while sign * (target - f_here) > 1e-15:
             f = f_here + sign * min(size, abs(target - f_here))
-            result = next_state(shell, load, here, f, newton)
+            result, after = _next_state(shell, load, here, f, newton, tangent)
             if result is not None:
                 here, f_here, negative = result, f, 0       # next_state's are stable
+                tangent = after
                 successes += 1
                 if successes >= GROW_AFTER:
                     size, successes = min(2.0 * size, spacing), 0
@@ -142,10 +144,11 @@ def leg(shell: ShellOfRevolution, load: AxisymmetricLoad, start: AxisymmetricEqu
             landed = _snap(shell, load, here, f_here, target, sign, settings, newton, jump)
             if isinstance(landed, str):
                 return Leg(direction, tuple(states), tuple(snaps), False, landed)
-            size = spacing
+            size, tangent = spacing, None
             if landed[0] is None:
                 here, f_here = landed[1], target
-                negative = _tangent(shell, load, here)[2]
+                tangent = _tangent(shell, load, here)
+                negative = tangent[2]
                 continue
             snaps.append(landed[0])
             here, f_here, negative = landed[1], landed[0].landing_fraction, 0   # stable
@@ -162,7 +165,13 @@ def next_state(shell: ShellOfRevolution, load: AxisymmetricLoad, here: Axisymmet
                fraction: float, newton: NewtonSettings = NewtonSettings(max_iterations=20)):
     """The stable equilibrium at tank ``fraction`` on ``here``'s branch, stepped to from
     ``here`` (module doc), or None."""
-    dxdf, dmudf, _ = _tangent(shell, load, here)
+    return _next_state(shell, load, here, fraction, newton)[0]
+
+
+def _next_state(shell, load, here, fraction, newton, tangent=None):
+    """(:func:`next_state`'s result, its :func:`_tangent`), from ``here``'s ``tangent`` when
+    known; (None, None) where there is none."""
+    dxdf, dmudf, _ = _tangent(shell, load, here) if tangent is None else tangent
     mu = here.pressure - here.pressure_level
     f_here = here.liquid_volume / tank_volume(shell.radius)
     ahead = None if dxdf is None else here.state + (fraction - f_here) * dxdf
@@ -176,11 +185,16 @@ def next_state(shell: ShellOfRevolution, load: AxisymmetricLoad, here: Axisymmet
         ahead = 0.5 * (here.state + ahead)
     predicted = mu + (fraction - f_here) * dmudf
     result = _solve(shell, load, fraction, ahead, predicted, newton)
-    if result is None or _tangent(shell, load, result)[2] != 0:
-        return None
+    if result is None:
+        return None, None
+    after = _tangent(shell, load, result)
+    if after[2] != 0:
+        return None, None
     corrected = abs(result.pressure - result.pressure_level - predicted)
     scale = pressure_scale(shell, load)
-    return result if corrected <= max(0.5 * abs(predicted - mu), 1e-3 * scale) else None
+    if corrected > max(0.5 * abs(predicted - mu), 1e-3 * scale):
+        return None, None
+    return result, after
 
 
 def _snap(shell, load, here, fraction, target, sign, settings, newton, jump):

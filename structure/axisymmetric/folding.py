@@ -11,10 +11,12 @@ mode is the fold's shape.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Optional, Sequence
 
 import numpy as np
 
+from ..parallel import process_map
 from .fill_drain import Leg, next_state, volume_load
 from .harmonics import HarmonicStability, stability
 from .loads import AxisymmetricLoad
@@ -68,11 +70,27 @@ def _between(shell, load, lo: AxisymmetricEquilibrium, hi: AxisymmetricEquilibri
 
 
 def stability_table(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg,
-                    wave_numbers: Sequence[int] = WAVE_NUMBERS
+                    wave_numbers: Sequence[int] = WAVE_NUMBERS, workers: Optional[int] = 1
                     ) -> list[Optional[HarmonicStability]]:
-    """The stability of each state of the leg ``path`` (None where it has none)."""
-    return [None if s is None else harmonic_table(shell, load, s.equilibrium, wave_numbers)
-            for s in path.states]
+    """The stability of each state of the leg ``path`` (None where it has none), over
+    ``workers`` processes (:func:`structure.parallel.process_map`; None: every core)."""
+    return stability_tables(shell, load, [None if s is None else s.equilibrium
+                                          for s in path.states], wave_numbers, workers)
+
+
+def stability_tables(shell: ShellOfRevolution, load: AxisymmetricLoad,
+                     results: Sequence[Optional[AxisymmetricEquilibrium]],
+                     wave_numbers: Sequence[int] = WAVE_NUMBERS, workers: Optional[int] = 1
+                     ) -> list[Optional[HarmonicStability]]:
+    """:func:`harmonic_table` of each of the equilibria ``results`` (None where None), over
+    ``workers`` processes (:func:`structure.parallel.process_map`; None: every core)."""
+    given = [k for k, r in enumerate(results) if r is not None]
+    tables = process_map(partial(harmonic_table, shell, load, wave_numbers=tuple(wave_numbers)),
+                         [results[k] for k in given], workers)
+    out: list[Optional[HarmonicStability]] = [None] * len(results)
+    for k, table in zip(given, tables):
+        out[k] = table
+    return out
 
 
 def onset_of_folding(shell: ShellOfRevolution, load: AxisymmetricLoad, path: Leg,

@@ -36,8 +36,10 @@ V'', W, W', W'') (primes d/dS) and quadratic in n, and the second variation is
 
 The n = 0 harmonic with V = 0 is the axisymmetric Hessian of :mod:`~structure.axisymmetric.energy`
 (a check). H is computed at the Gauss points by the complex step in one entry and a central
-difference in the other (Squire & Trapp 1998; Lyness & Moler 1967), accurate to about 1e-9 of
-its scale; the barrier's block, whose band is far thinner than a difference step, in closed
+difference in the other (Squire & Trapp 1998; Lyness & Moler 1967), each entry's step 1e-5 of
+its size at the point (x_theta and x_thetatheta scale with the rest radius R, which vanishes
+at the pole), accurate to about 3e-10 of its scale (the steps tenfold smaller or larger move
+it by 3e-10 and 3e-8); the barrier's block, whose band is far thinner than a difference step, in closed
 form. The volume constraint acts on n = 0 alone (the integral of cos n theta vanishes).
 
 **Per harmonic.** U, V and W are cubic Hermite on the meridian's elements (six values a node:
@@ -159,10 +161,15 @@ def surface_density(shell: ShellOfRevolution, jet: np.ndarray, rest: dict, liqui
     return f - liquid * x[..., 2] * v - net_pressure * v
 
 
-def _steps(radius: float) -> np.ndarray:
-    """(18,): the central-difference step of each jet entry (1e-5 of its scale: a for x,
-    x_theta and x_thetatheta, 1 for x_S and x_Stheta, 1/a for x_SS)."""
-    scale = np.repeat([radius, 1.0, radius, 1.0 / radius, 1.0, radius], 3)
+def _steps(radius: float, rest_radius: np.ndarray) -> np.ndarray:
+    """(P, 18): the central-difference step of each jet entry at each Gauss point, 1e-5 of its
+    scale: a for x, the point's rest radius R for x_theta and x_thetatheta (their size, r:
+    near the pole a step of a would be far larger than they are), 1 for x_S and x_Stheta,
+    1/a for x_SS."""
+    big_r = np.asarray(rest_radius, dtype=float)[:, None]
+    scale = np.concatenate([np.full((len(big_r), 3), radius), np.ones((len(big_r), 3)),
+                            np.repeat(big_r, 3, axis=1), np.full((len(big_r), 3), 1 / radius),
+                            np.ones((len(big_r), 3)), np.repeat(big_r, 3, axis=1)], axis=1)
     return 1e-5 * scale
 
 
@@ -203,23 +210,26 @@ def wall_hessian(shell: ShellOfRevolution, jet: np.ndarray, rest: dict) -> np.nd
 def jet_hessian(shell: ShellOfRevolution, state: np.ndarray, liquid: float,
                 net_pressure: float) -> np.ndarray:
     """(P, 18, 18): H = d2 f / dJ2 at the Gauss points of the axisymmetric ``state`` (module
-    doc), symmetrised."""
+    doc); its entries (i, j >= i) by complex step in i and central difference in j, the rest
+    by symmetry."""
     jet = base_jet(shell, state)
     rest = rest_at_points(shell.meridian)
     if shell.tension_field:
         rest["regime"] = base_regime(shell, jet, rest)
-    steps = _steps(shell.radius)
+    steps = _steps(shell.radius, rest["radius"])
     p = len(jet)
     h_complex = 1e-30
     hess = np.empty((p, JET, JET))
-    shifts = np.concatenate([np.diag(steps), -np.diag(steps)])          # (36, 18)
-    for i in range(JET):
+    for i in range(JET):                 # row i from column i on; the rest by symmetry
         probe = jet.astype(complex)
         probe[:, i] += 1j * h_complex
-        trial = probe[None, :, :] + shifts[:, None, :]                   # (36, P, 18)
+        half = JET - i
+        ahead = np.zeros((half, p, JET))                                 # (18 - i, P, 18)
+        ahead[np.arange(half), :, np.arange(i, JET)] = steps[:, i:].T
+        trial = probe[None, :, :] + np.concatenate([ahead, -ahead])
         g = surface_density(shell, trial, rest, liquid, net_pressure).imag / h_complex
-        hess[:, i, :] = ((g[:JET] - g[JET:]) / (2 * steps[:, None])).T
-    hess = 0.5 * (hess + np.swapaxes(hess, 1, 2))
+        hess[:, i, i:] = ((g[:half] - g[half:]) / (2 * steps[:, i:].T)).T
+        hess[:, i:, i] = hess[:, i, i:]
     if shell.wall is not None:
         hess[:, :3, :3] += wall_hessian(shell, jet, rest)
     return hess

@@ -14,12 +14,15 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Callable, Optional, Sequence
 
 import numpy as np
 
+from ..parallel import process_map
 from .fill_drain import Leg, LegState, leg, volume_load
-from .folding import WAVE_NUMBERS, Onset, harmonic_table, onset_of_folding, stability_table
+from .folding import (WAVE_NUMBERS, Onset, harmonic_table, onset_of_folding,
+                      stability_tables)
 from .loads import AxisymmetricLoad
 from .model import ShellOfRevolution
 from .solve import equilibrium
@@ -74,13 +77,20 @@ def _drain(shell, load, fractions: np.ndarray, fill: Leg, progress) -> Leg:
                below.reason)
 
 
+def _onset(shell, load, wave_numbers, leg_tables):
+    return onset_of_folding(shell, load, leg_tables[0], leg_tables[1], wave_numbers)
+
+
 def fill_and_drain(shell: ShellOfRevolution, load: AxisymmetricLoad, fractions: Sequence[float],
                    wave_numbers: Sequence[int] = WAVE_NUMBERS,
-                   progress: Optional[Callable[[str, float], None]] = None) -> FillDrainStudy:
+                   progress: Optional[Callable[[str, float], None]] = None,
+                   workers: Optional[int] = 1) -> FillDrainStudy:
     """Fill ``shell`` under ``load`` (its liquid, gravity and pressure) from its equilibrium
     at the first of ``fractions`` (increasing, from 0) through them, drain it back, and
     tabulate the stability of both legs (module doc). ``progress(part, fraction)`` is called
-    as each leg advances."""
+    as each leg advances; the stability tables, and the two legs' onsets of folding, are
+    computed over ``workers`` processes (:func:`structure.parallel.process_map`; None: every
+    core)."""
     fractions = np.asarray(fractions, dtype=float)
     if np.any(np.diff(fractions) <= 0) or fractions[0] < 0 or fractions[-1] >= 1:
         raise ValueError("tank fractions must increase within [0, 1)")
@@ -102,20 +112,26 @@ def fill_and_drain(shell: ShellOfRevolution, load: AxisymmetricLoad, fractions: 
         drain = Leg("drain", (), (), False, "the fill did not reach its end")
     seconds["drain"] = time.perf_counter() - began
     began = time.perf_counter()
-    fill_tables = stability_table(shell, load, fill, wave_numbers)
-    drain_tables = []
+    # the drain's states that are the fill's share its tables; the rest are computed with
+    # the fill's, over the workers
+    twins = []
     for k, state in enumerate(drain.states):
         twin = len(fractions) - 1 - k
-        if twin < len(fill.states) and _same(state, fill.states[twin], shell.radius):
-            drain_tables.append(fill_tables[twin])
-        else:
-            drain_tables.append(None if state is None else harmonic_table(
-                shell, load, state.equilibrium, wave_numbers))
+        same = twin < len(fill.states) and _same(state, fill.states[twin], shell.radius)
+        twins.append(twin if same else None)
+    own = [None if s is None or t is not None else s.equilibrium
+           for s, t in zip(drain.states, twins)]
+    tables = stability_tables(shell, load, [None if s is None else s.equilibrium
+                                            for s in fill.states] + own, wave_numbers,
+                              workers)
+    fill_tables = tables[:len(fill.states)]
+    drain_tables = [fill_tables[t] if t is not None else table
+                    for t, table in zip(twins, tables[len(fill.states):])]
     seconds["stability"] = time.perf_counter() - began
     began = time.perf_counter()
-    fill_onset = onset_of_folding(shell, load, fill, fill_tables, wave_numbers)
-    drain_onset = onset_of_folding(shell, load, drain, drain_tables, wave_numbers) \
-        if drain.states else None
+    legs = [(fill, fill_tables)] + ([(drain, drain_tables)] if drain.states else [])
+    onsets = process_map(partial(_onset, shell, load, tuple(wave_numbers)), legs, workers)
+    fill_onset, drain_onset = onsets[0], (onsets[1] if len(onsets) > 1 else None)
     seconds["onset"] = time.perf_counter() - began
     return FillDrainStudy(fractions, fill, drain, fill_tables, drain_tables[::-1], fill_onset,
                           drain_onset, seconds)
