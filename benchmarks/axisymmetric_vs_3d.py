@@ -27,7 +27,7 @@ Prints one JSON object (a full run also writes ``docs/data/axisymmetric_vs_3d.js
   (:func:`fsi.analysis.compare.eqn_6_1_error`; it counts only the nodes within 0.8 a of the
   tank's centre, none at 0.01); ``negative``, the count of negative eigenvalues of the 3-D
   tangent on the volume's tangent space (0 stable; the inertia of its symmetric
-  factorisation, :func:`structure.axisymmetric.continuation.constrained_negative`: a
+  factorisation, :func:`structure.inertia.constrained_negative`: a
   strongly negative eigenvalue is not among those nearest zero);
   ``harmonics``, the amplitude (m) of the deviation's five largest circumferential
   harmonics;
@@ -53,11 +53,11 @@ from fsi.scene import load_scene
 from fsi.setup.build import build
 from fsi.setup.models import hydrostatic_load
 from structure.axisymmetric import leg, meridian_fields
-from structure.axisymmetric.continuation import constrained_negative
 from structure.axisymmetric.harmonics import stability
 from structure.axisymmetric.mapping import rest_arc_length, surface_points
 from structure.axisymmetric.solve import equilibrium
 from structure.grid import hemisphere_grid, quad_faces
+from structure.inertia import constrained_negative
 from structure.newton import statics
 from structure.newton.system import NewtonModel
 from structure.shell import ShellModel, ShellSettings

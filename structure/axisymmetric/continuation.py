@@ -34,7 +34,7 @@ K = T^T Pi_xx T is positive definite on the tangent space of the volume constrai
 neg(K) - 1 if v . K^-1 v < 0 and neg(K) otherwise (Haynsworth's inertia additivity on the
 bordered matrix [[K, v], [v^T, 0]]); neg(K) is the count of negative pivots of K's symmetric
 factorisation (SuperLU in symmetric mode: a diagonal pivot order, equal row and column
-permutations, so the pivots' signs are K's inertia by Sylvester's law).
+permutations, so the pivots' signs are K's inertia by Sylvester's law; :mod:`structure.inertia`).
 """
 from __future__ import annotations
 
@@ -45,6 +45,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from ..inertia import constrained_negative
 from .energy import evaluate
 from .loads import AxisymmetricLoad, lower_hemisphere
 from .meridian import DOFS_PER_NODE, DR, DZ
@@ -137,42 +138,6 @@ def free_scales(shell: ShellOfRevolution) -> np.ndarray:
     rows = np.array([basis.indices[basis.indptr[j]] for j in range(basis.shape[1])])
     slope = np.isin(rows % DOFS_PER_NODE, (DR, DZ))
     return np.where(slope, 1.0, shell.radius)
-
-
-def factor_symmetric(matrix: sp.spmatrix):
-    """(SuperLU of the symmetric ``matrix`` in symmetric mode, the number of its negative
-    eigenvalues from the signs of its pivots) (module doc); (None, None) where it is singular,
-    and the count None where pivoting was needed (it would not be the inertia)."""
-    try:
-        lu = splu(sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                  options=dict(SymmetricMode=True))
-    except RuntimeError:
-        return None, None
-    if not np.array_equal(lu.perm_r, lu.perm_c):
-        return lu, None
-    pivots = lu.U.diagonal()
-    if not np.all(np.isfinite(pivots)) or np.any(pivots == 0):
-        return None, None
-    return lu, int(np.count_nonzero(pivots < 0))
-
-
-def negative_eigenvalues(matrix: sp.spmatrix) -> Optional[int]:
-    """The number of negative eigenvalues of the symmetric ``matrix`` (:func:`factor_symmetric`),
-    or None."""
-    return factor_symmetric(matrix)[1]
-
-
-def constrained_negative(k: sp.spmatrix, v: np.ndarray) -> int:
-    """The negative eigenvalues of ``k`` on the tangent space {v . dy = 0} (module doc); -1
-    where K is singular."""
-    neg = negative_eigenvalues(k)
-    if neg is None:
-        return -1
-    try:
-        kv = splu(sp.csc_matrix(k)).solve(v)
-    except RuntimeError:
-        return -1
-    return neg - 1 if v @ kv < 0 else neg
 
 
 class _System:

@@ -24,8 +24,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .continuation import (ContinuationSettings, pressure_scale, _System,
-                           constrained_negative, tank_volume, trace)
+from ..inertia import constrained_negative
+from .continuation import ContinuationSettings, pressure_scale, _System, tank_volume, trace
 from .energy import evaluate
 from .loads import AxisymmetricLoad
 from .model import ShellOfRevolution

@@ -61,7 +61,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator, eigsh
 
 from ..hyperelastic import HyperelasticLaw, SaintVenantKirchhoff
-from .continuation import factor_symmetric
+from ..inertia import factor_symmetric
 from .energy import rest_at_points
 from .laws import TAUT, WRINKLED, regimes, uniaxial_density
 from .meridian import local_variables

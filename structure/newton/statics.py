@@ -40,6 +40,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator, eigs, splu
 
+from ..inertia import constrained_negative
 from ..load import Equilibrium, Load
 from ..model import MembraneState
 from ..volume import tank_volume
@@ -444,6 +445,24 @@ def _report(report: NewtonReport, iterations: int, steps: int) -> NewtonReport:
     return NewtonReport(iterations, steps, list(report.events))
 
 
+def _shift_below(k: sp.csr_matrix, mass: np.ndarray, g: np.ndarray) -> float:
+    """A shift sigma (1/s^2) with K - sigma M positive definite on {g . dy = 0}, by its
+    inertia (:func:`structure.inertia.constrained_negative`): -1e-9 s first (s the median of
+    diag K / M), where the tangent is stable; else from -1e-3 s, fourfold lower until no
+    negative eigenvalue is left. Zero where the inertia cannot be read (a singular or
+    pivoted factorisation)."""
+    scale = float(np.median(np.abs(k.diagonal()) / mass))
+    sigma = -1e-9 * scale
+    for _ in range(40):
+        negative = constrained_negative(k - sigma * sp.diags(mass), g)
+        if negative == 0:
+            return sigma
+        if negative < 0:
+            return 0.0
+        sigma = min(4.0 * sigma, -1e-3 * scale)
+    return 0.0
+
+
 def _result(model, x, level, lin, converged, report, scales, settings):
     if settings.eigenvalues and converged:
         report.eigenvalues = constrained_eigenvalues(model, lin, settings.eigenvalues)
@@ -513,9 +532,12 @@ def _arc_step(model, x0, level0, volume0, tangent, step, load, settings, scales)
 
 
 def constrained_eigenvalues(model: NewtonModel, lin: Linearisation, count: int) -> np.ndarray:
-    """The ``count`` eigenvalues omega^2 (1/s^2) of K phi = omega^2 M phi nearest zero on the
-    volume constraint's tangent space (g . phi = 0), M the lumped node masses, on the free
-    degrees of freedom; sorted by real part."""
+    """The ``count`` lowest eigenvalues omega^2 (1/s^2) of K phi = omega^2 M phi on the volume
+    constraint's tangent space (g . phi = 0), M the lumped node masses, on the free degrees of
+    freedom; sorted by real part. Shift-invert about a shift below the lowest
+    (:func:`_shift_below`): about zero, a strongly negative eigenvalue is not among those
+    nearest it. A tangent that is not symmetric (a follower load's) has no inertia to read:
+    there the shift is zero and the eigenvalues are those nearest zero."""
     free = np.repeat(model.free, 3)
     k = sp.csr_matrix(lin.matrix)[free][:, free]
     g = lin.volume_gradient[model.free].ravel()
@@ -523,16 +545,17 @@ def constrained_eigenvalues(model: NewtonModel, lin: Linearisation, count: int) 
     n = k.shape[0]
     if count >= n - 1:
         raise ValueError(f"{count} eigenvalues asked of {n} degrees of freedom")
-    bordered = sp.bmat([[k, sp.csr_matrix(g[:, None])], [sp.csr_matrix(g[None, :]), None]],
-                       format="csc")
+    sigma = _shift_below(k, mass, g) if model.load_form == "energy" else 0.0
+    bordered = sp.bmat([[k - sigma * sp.diags(mass), sp.csr_matrix(g[:, None])],
+                        [sp.csr_matrix(g[None, :]), None]], format="csc")
     lu = splu(bordered)
 
     def solve(v):
-        rhs = np.concatenate([mass * np.asarray(v).ravel(), [0.0]])
+        rhs = np.concatenate([np.asarray(v).ravel(), [0.0]])
         return lu.solve(rhs)[:n]
 
     opinv = LinearOperator((n, n), matvec=solve, dtype=float)
-    values = eigs(k, k=count, M=sp.diags(mass), sigma=0.0, OPinv=opinv,
+    values = eigs(k, k=count, M=sp.diags(mass), sigma=sigma, OPinv=opinv,
                   return_eigenvectors=False, which="LM")
     values = np.real_if_close(values, tol=1e6)
     return np.sort_complex(values) if np.iscomplexobj(values) else np.sort(values)
