@@ -4,8 +4,9 @@ The stability tables of a fill's states, or the slosh modes at its fills, are in
 one another; :func:`process_map` spreads them over worker processes (forked, so the caller's
 modules and data are there already; results come back pickled, in order). Each worker runs
 NumPy's BLAS on one thread: with a thread per core in every worker the threads wait on each
-other (``docs/notes/blas-threads.md``). Where fork is not available, or one worker is asked
-for, the map runs in the calling process.
+other (``docs/notes/blas-threads.md``). Where fork is not available, one worker is asked
+for, or the caller is itself a daemonic worker (a Dask sweep's, which may not start
+processes), the map runs in the calling process.
 """
 from __future__ import annotations
 
@@ -32,7 +33,8 @@ def process_map(function: Callable, items: Iterable, workers: Optional[int] = No
     or a :func:`functools.partial` of one)."""
     items = list(items)
     count = min(WORKERS if workers is None else int(workers), len(items))
-    if count <= 1 or "fork" not in multiprocessing.get_all_start_methods():
+    if count <= 1 or "fork" not in multiprocessing.get_all_start_methods() \
+            or multiprocessing.current_process().daemon:
         return [function(item) for item in items]
     context = multiprocessing.get_context("fork")
     with ProcessPoolExecutor(count, mp_context=context, initializer=_one_blas_thread) as pool:

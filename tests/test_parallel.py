@@ -48,3 +48,21 @@ def test_stability_tables_over_two_workers_are_the_serial_ones():
     for a, b in zip(serial[::2], spread[::2]):
         assert np.allclose(a.eigenvalue, b.eigenvalue, rtol=1e-8)
         assert list(a.negative) == list(b.negative)
+
+
+def test_a_daemonic_worker_maps_in_its_own_process():
+    """A daemonic process (a Dask sweep's worker) may not start processes: the map runs
+    there."""
+    import multiprocessing
+    context = multiprocessing.get_context("fork")
+    queue = context.Queue()
+    worker = context.Process(target=_map_and_report, args=(queue,), daemon=True)
+    worker.start()
+    worker.join(60)
+    values, pids, own = queue.get(timeout=5)
+    assert values == [1, 2, 5] and pids == {own}
+
+
+def _map_and_report(queue):
+    out = process_map(partial(_square_and_pid, 1), [0, 1, 2], workers=2)
+    queue.put(([v for v, _ in out], {p for _, p in out}, os.getpid()))

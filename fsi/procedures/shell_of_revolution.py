@@ -22,10 +22,12 @@ slosh mode on the liquid's potential flow (``axisymmetric_slosh``:
 :func:`fsi.slosh.axisymmetric.fill_slosh`): lambda1 = omega^2 a / g, the slosh mass fraction,
 the pendulum's hinge height above the tank's centre, the lowest stable mode, the unstable
 n = 1 directions, whether the branch is stable to every harmonic, and the free surface's
-lambda1 and slosh mass at the same fill. A leg that does not reach its end is a failed run (exit 3).
+lambda1 and slosh mass at the same fill (a slosh fill the fill jumped over in a snap has no
+state, and is said so in the log). A leg that does not reach its end is a failed run (exit 3).
 """
 from __future__ import annotations
 
+import logging
 from typing import Optional
 
 import numpy as np
@@ -40,6 +42,8 @@ from fsi.lifecycle import Progress, Run, RunResult
 from fsi.registry import Key, Procedure, SceneError, Table, register_procedure
 from fsi.slosh.axisymmetric import fill_slosh_table
 from fsi.text import format_table
+
+LOG = logging.getLogger(__name__)
 
 
 def _fills(v) -> bool:
@@ -155,6 +159,10 @@ def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
             if state is not None:
                 run.record(name, _record(shell, state, stab, samples))
     picked = [(f, int(np.argmin(np.abs(study.fractions - f)))) for f in table["slosh_fills"]]
+    for f, j in picked:
+        if study.fill.states[j] is None:
+            LOG.warning("no slosh mode at tank fraction %.4f: the fill jumped over it in a "
+                        "snap", f)
     picked = [(f, j) for f, j in picked if study.fill.states[j] is not None]
     if picked:
         run.progress(3, f"slosh at {len(picked)} fills")

@@ -444,7 +444,8 @@ def fill_slosh(shell: ShellOfRevolution, equilibrium, tank_fraction: float,
     ``lambda1_full`` = omega^2 a / g of the slosh mode, its ``slosh_mass_fraction`` (over the
     liquid's mass) and ``hinge`` (m above the tank's centre), extrapolated in the wet part's
     gap (:func:`converged_slosh`) with ``wet_gap_order``; ``lambda1_lowest`` and
-    ``lowest_slosh_mass_fraction``, the lowest stable mode's at the finest gap;
+    ``lowest_slosh_mass_fraction``, the lowest stable mode's at the finest gap (NaN where
+    none of the modes found is stable);
     ``unstable_n1``, the directions of negative stiffness in n = 1; ``lambda1_free`` and
     ``free_slosh_mass_fraction``, the free surface's at the same fill
     (:func:`free_surface_slosh`)."""
@@ -454,14 +455,15 @@ def fill_slosh(shell: ShellOfRevolution, equilibrium, tank_fraction: float,
     slosh = converged_slosh(shell, e.state, liquid_density, gravity,
                             e.pressure - e.pressure_level, volume)
     finest = slosh.by_gap[-1]
-    lowest = int(np.argmax(finest.omega2 > 0))
+    stable = finest.omega2 > 0
+    lowest = int(np.argmax(stable))
     free = free_surface_slosh(tank_fraction, a, liquid_density, gravity)
     return dict(tank_fraction=float(tank_fraction), lambda1_full=slosh.lambda1,
                 slosh_mass_fraction=slosh.slosh_mass_fraction, hinge=slosh.hinge,
                 wet_gap_order=slosh.observed_order,
-                lambda1_lowest=float(finest.lam[lowest]),
-                lowest_slosh_mass_fraction=float(finest.slosh_mass[lowest]
-                                                 / finest.liquid_mass),
+                lambda1_lowest=float(finest.lam[lowest]) if stable.any() else np.nan,
+                lowest_slosh_mass_fraction=float(finest.slosh_mass[lowest] / finest.liquid_mass)
+                if stable.any() else np.nan,
                 unstable_n1=slosh.unstable, lambda1_free=free.lambda1,
                 free_slosh_mass_fraction=free.slosh_mass_fraction)
 
