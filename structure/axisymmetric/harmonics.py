@@ -39,8 +39,8 @@ The n = 0 harmonic with V = 0 is the axisymmetric Hessian of :mod:`~structure.ax
 difference in the other (Squire & Trapp 1998; Lyness & Moler 1967), each entry's step 1e-5 of
 its size at the point (x_theta and x_thetatheta scale with the rest radius R, which vanishes
 at the pole), accurate to about 3e-10 of its scale (the steps tenfold smaller or larger move
-it by 3e-10 and 3e-8); the barrier's block, whose band is far thinner than a difference step, in closed
-form. The volume constraint acts on n = 0 alone (the integral of cos n theta vanishes).
+it by 3e-10 and 3e-8); the barrier's block, whose band is far thinner than a difference step,
+in closed form. The volume constraint acts on n = 0 alone (the integral of cos n theta vanishes).
 
 **Per harmonic.** U, V and W are cubic Hermite on the meridian's elements (six values a node:
 U, U', V, V', W, W'). The pole's regularity for harmonic n: n = 1, W = 0 and U + V = 0 (a

@@ -35,8 +35,8 @@ A sheet relaxed this way resists the hoop compression of a fold by its bending a
 Newton's tangent nearly loses rank where it goes slack: on the Table 4.1 diaphragm, Newton on
 the pure relaxed energy does not converge from the full law's equilibrium, nor from rest on
 256 elements. ``residual`` keeps a fraction e of the law, (1 - e) W_relaxed + e W (the
-regularisation of tension-field computations), and the pure relaxed
-state is the limit e -> 0 (:attr:`~structure.axisymmetric.model.ShellOfRevolution.residual_stiffness`).
+regularisation of tension-field computations), and the pure relaxed state is the limit
+e -> 0 (:attr:`~structure.axisymmetric.model.ShellOfRevolution.residual_stiffness`).
 
 The relaxed energy is C1 across the regimes (the relaxed stress vanishes at each boundary);
 its Hessian jumps there.
@@ -50,8 +50,8 @@ from ..model import Material
 from ..shell import MEMBRANE_LAWS
 from ..xpbd.kernels import SLACK, TAUT, WRINKLED
 
-__all__ = ["membrane_density", "regimes", "uniaxial_density", "bending_density", "law_of", "TAUT", "WRINKLED",
-           "SLACK"]
+__all__ = ["membrane_density", "regimes", "uniaxial_density", "bending_density", "law_of", "TAUT",
+           "WRINKLED", "SLACK"]
 
 
 def law_of(material: Material, name: str):
