@@ -214,11 +214,8 @@ def slosh_rows(shell, load, study, fractions, relaxed) -> tuple[list, list]:
     tension field's rows ``relaxed`` (:func:`tension_field_rows`)."""
     reference = _reference()
     table, limp = [], []
-    picked = []
-    for f in fractions:
-        k = int(np.argmin(np.abs(study.fractions - f)))
-        if study.fill.states[k] is not None and abs(study.fractions[k] - f) <= 1e-9:
-            picked.append((f, k))
+    picked = [(f, k) for f, k in ((f, study.fill_index(f)) for f in fractions)
+              if k is not None]
     rows = fill_slosh_table(shell, [study.fill.states[k].equilibrium for _, k in picked],
                             [f for f, _ in picked], load.liquid_density, load.gravity,
                             workers=None)

@@ -158,12 +158,12 @@ def run_shell_of_revolution(setup, progress: Progress) -> RunResult:
         for state, stab in zip(states, tables):
             if state is not None:
                 run.record(name, _record(shell, state, stab, samples))
-    picked = [(f, int(np.argmin(np.abs(study.fractions - f)))) for f in table["slosh_fills"]]
+    picked = [(f, study.fill_index(f)) for f in table["slosh_fills"]]
     for f, j in picked:
-        if study.fill.states[j] is None:
+        if j is None:
             LOG.warning("no slosh mode at tank fraction %.4f: the fill jumped over it in a "
                         "snap", f)
-    picked = [(f, j) for f, j in picked if study.fill.states[j] is not None]
+    picked = [(f, j) for f, j in picked if j is not None]
     if picked:
         run.progress(3, f"slosh at {len(picked)} fills")
     rows = fill_slosh_table(shell, [study.fill.states[j].equilibrium for _, j in picked],

@@ -137,9 +137,15 @@ def membrane_density(law, es: np.ndarray, et: np.ndarray, tension_field: bool = 
         raise TypeError(f"no axisymmetric membrane law for {type(law).__name__}")
     if not tension_field:
         return w, g, h
+    relaxed = _relaxed(law, es, et, w, g, h)
     if residual > 0.0:
-        relaxed = membrane_density(law, es, et, True)
         return tuple((1.0 - residual) * r + residual * f for r, f in zip(relaxed, (w, g, h)))
+    return relaxed
+
+
+def _relaxed(law, es, et, w, g, h):
+    """The tension field's relaxation (module doc) of the law's (W, dW/dE, d2W/dE2) at the
+    Green strains (E_s, E_t)."""
     regime = regimes(law, es, et)
     wrinkled, slack = regime == WRINKLED, regime == SLACK
     with np.errstate(invalid="ignore", divide="ignore"):

@@ -57,6 +57,14 @@ class FillDrainStudy:
     def complete(self) -> bool:
         return self.fill.complete and self.drain.complete
 
+    def fill_index(self, fraction: float) -> Optional[int]:
+        """The index in ``fractions`` of the tank ``fraction`` (within 1e-9) where the fill
+        has a state, else None (not a requested fraction, or jumped over in a snap)."""
+        k = int(np.argmin(np.abs(self.fractions - fraction)))
+        if abs(self.fractions[k] - fraction) > 1e-9 or self.fill.states[k] is None:
+            return None
+        return k
+
 
 def _same(a, b, radius: float) -> bool:
     return a is not None and b is not None and \
