@@ -21,6 +21,15 @@ sum 3 l^2 theta^2 / A_e, whose constant is right on near-equilateral meshes only
 stiff on the quad-split grids of this project), K_T is built from each triangle's own shape,
 so no mesh-dependent factor needs calibrating.
 
+**Each hinge's turn.** The dihedral angle is read on the circle, in (-pi, pi]; a change
+beyond pi is a sheet that has folded through itself. Because K_T couples a triangle's three
+hinges, taking a change modulo 2 pi would make the energy jump where a hinge passes +-pi (its
+d flips sign, the cross terms with it). Each hinge's change is therefore taken within pi of
+its own reference, ``reference_change`` (zero at build: the rest shape's branch), and the
+solvers move the reference along with the state (:meth:`MidedgeBending.follow` after each
+accepted step or substep), so that along any path whose steps turn no hinge by pi or more
+the energy is continuous. The reference is the one piece of state the bending carries.
+
 Boundary edges: ``clamped`` puts a fixed ghost vertex across the edge (the triangle's opposite
 vertex reflected through the edge at rest), so the edge keeps its reference slope; ``free``
 condenses the edge's angle out of K_T (the edge carries no moment).  Clamped edges are meant
@@ -102,9 +111,11 @@ def _dihedral(pos, ghost_point, a, b, c, d, grad):
 
 
 @njit(**JIT, inline="always")
-def _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads, delta):
-    """Fills delta (3,) with the angle changes (rad) at triangle t's edges, nodes (3, 4)
-    (c, d, a, b; -1 for a ghost or an inactive edge) and grads (3, 4, 3) = d delta_i / d x."""
+def _triangle(pos, triangles, flap, ghost, active, rest_angle, reference, t, nodes, grads,
+              delta):
+    """Fills delta (3,) with the angle changes (rad) at triangle t's edges, each within pi of
+    its ``reference`` (m, 3) rad (module doc), nodes (3, 4) (c, d, a, b; -1 for a ghost or an
+    inactive edge) and grads (3, 4, 3) = d delta_i / d x."""
     for i in range(3):
         c, a, b, d = (triangles[t, i], triangles[t, (i + 1) % 3], triangles[t, (i + 2) % 3],
                       flap[t, i])
@@ -116,22 +127,24 @@ def _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads, 
             continue
         theta = _dihedral(pos, ghost[t, i], a, b, c, d, grads[i])
         change = theta - rest_angle[t, i]
-        if change > np.pi:
+        while change - reference[t, i] > np.pi:
             change -= 2.0 * np.pi
-        elif change < -np.pi:
+        while change - reference[t, i] < -np.pi:
             change += 2.0 * np.pi
         delta[i] = change
 
 
 @njit(**JIT)
-def _energy_and_gradient(pos, triangles, flap, ghost, active, rest_angle, stiffness):
+def _energy_and_gradient(pos, triangles, flap, ghost, active, rest_angle, reference,
+                         stiffness):
     grad = np.zeros_like(pos)
     energy = 0.0
     nodes = np.empty((3, 4), dtype=np.int64)
     grads = np.empty((3, 4, 3))
     delta = np.empty(3)
     for t in range(triangles.shape[0]):
-        _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes, grads, delta)
+        _triangle(pos, triangles, flap, ghost, active, rest_angle, reference, t, nodes, grads,
+                  delta)
         for i in range(3):
             f = 0.0
             for j in range(3):
@@ -145,15 +158,28 @@ def _energy_and_gradient(pos, triangles, flap, ghost, active, rest_angle, stiffn
 
 
 @njit(**JIT)
-def _angle_jacobian(pos, triangles, flap, ghost, active, rest_angle):
+def _angle_jacobian(pos, triangles, flap, ghost, active, rest_angle, reference):
     m = triangles.shape[0]
     delta = np.empty((m, 3))
     nodes = np.empty((m, 3, 4), dtype=np.int64)
     grads = np.empty((m, 3, 4, 3))
     for t in range(m):
-        _triangle(pos, triangles, flap, ghost, active, rest_angle, t, nodes[t], grads[t],
-                  delta[t])
+        _triangle(pos, triangles, flap, ghost, active, rest_angle, reference, t, nodes[t],
+                  grads[t], delta[t])
     return delta, nodes, grads
+
+
+@njit(**JIT)
+def _follow(pos, triangles, flap, ghost, active, rest_angle, reference):
+    """reference (m, 3) rad <- the angle changes at ``pos``, each within pi of its old value."""
+    nodes = np.empty((3, 4), dtype=np.int64)
+    grads = np.empty((3, 4, 3))
+    delta = np.empty(3)
+    for t in range(triangles.shape[0]):
+        _triangle(pos, triangles, flap, ghost, active, rest_angle, reference, t, nodes, grads,
+                  delta)
+        for i in range(3):
+            reference[t, i] = delta[i]
 
 
 def _rest_geometry(rest: np.ndarray, tri: np.ndarray):
@@ -183,6 +209,7 @@ class MidedgeBending:
     active: np.ndarray
     rest_angle: np.ndarray
     stiffness: np.ndarray
+    reference_change: np.ndarray
 
     @classmethod
     def build(cls, rest: np.ndarray, triangles: np.ndarray, flexural_rigidity: float,
@@ -222,20 +249,35 @@ class MidedgeBending:
                     k[t][np.ix_(on, on)] - k[t][np.ix_(on, off)]
                     @ np.linalg.solve(k[t][np.ix_(off, off)], k[t][np.ix_(off, on)]))
             k[t] = condensed
-        rest_angle, _, _ = _angle_jacobian(rest, tri, flap, ghost, active, np.zeros(tri.shape))
-        return cls(tri, flap, ghost, active, rest_angle, np.ascontiguousarray(k))
+        rest_angle, _, _ = _angle_jacobian(rest, tri, flap, ghost, active, np.zeros(tri.shape),
+                                           np.zeros(tri.shape))
+        return cls(tri, flap, ghost, active, rest_angle, np.ascontiguousarray(k),
+                   np.zeros(tri.shape))
+
+    def follow(self, pos: np.ndarray) -> "MidedgeBending":
+        """Move each hinge's reference to its angle change at ``pos`` (n, 3) m, taken within
+        pi of the old reference (in place; module doc). Returns self."""
+        _follow(np.ascontiguousarray(pos, dtype=float), self.triangles, self.flap, self.ghost,
+                self.active, self.rest_angle, self.reference_change)
+        return self
+
+    def reset(self) -> "MidedgeBending":
+        """Every hinge back on the rest shape's turn (reference zero). Returns self."""
+        self.reference_change[:] = 0.0
+        return self
 
     def energy_and_gradient(self, pos: np.ndarray):
         """Bending energy (J) and its gradient (n, 3) N at positions ``pos`` (n, 3) m."""
         return _energy_and_gradient(np.ascontiguousarray(pos, dtype=float), self.triangles,
                                     self.flap, self.ghost, self.active, self.rest_angle,
-                                    self.stiffness)
+                                    self.reference_change, self.stiffness)
 
     def angle_jacobian(self, pos: np.ndarray):
         """Angle changes (m, 3) rad, the nodes they depend on (m, 3, 4) int64 (-1: ghost or
         inactive) and their gradients (m, 3, 4, 3) 1/m."""
         return _angle_jacobian(np.ascontiguousarray(pos, dtype=float), self.triangles,
-                               self.flap, self.ghost, self.active, self.rest_angle)
+                               self.flap, self.ghost, self.active, self.rest_angle,
+                               self.reference_change)
 
     def stiffness_matrix(self, pos: np.ndarray):
         """Gauss-Newton stiffness sum_T J_T^T K_T J_T, (3n, 3n) sparse N/m: the exact Hessian

@@ -307,7 +307,13 @@ def equilibrium_under_pressure(membrane: TriangleMembrane, law, pressure: float,
         v, gv = enclosed_volume(pos, membrane.triangles)
         return (w - pressure * v) / scale_e, (gw - pressure * gv)[free].ravel() / scale_e
 
-    result = minimize(objective, x0[free].ravel(), jac=True, method="L-BFGS-B",
+    def follow(flat):  # each hinge's turn along the iterates (structure.bending)
+        if hasattr(bending, "follow"):
+            pos = x0.copy()
+            pos[free] = flat.reshape(-1, 3)
+            bending.follow(pos)
+
+    result = minimize(objective, x0[free].ravel(), jac=True, method="L-BFGS-B", callback=follow,
                       options={"maxiter": 50000, "ftol": 1e-16, "gtol": 1e-13,
                                "maxcor": 30})
     out = x0.copy()

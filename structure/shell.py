@@ -179,7 +179,14 @@ def solve_equilibrium(model: ShellModel, state: MembraneState, load: Load,
                 g = g + (-level + penalty * c) * gv
                 return e / scale_e, g[free].ravel() / scale_e
 
+            def follow(flat):
+                if model.bending is not None:
+                    pos = x.copy()
+                    pos[free] = flat.reshape(-1, 3)
+                    model.bending.follow(pos)
+
             result = minimize(objective, x[free].ravel(), jac=True, method="L-BFGS-B",
+                              callback=follow,
                               options={"maxiter": s.max_iterations, "maxcor": 30,
                                        "ftol": 1e-15,
                                        "gtol": s.gradient_tolerance * force_scale / scale_e})

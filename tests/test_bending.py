@@ -96,3 +96,71 @@ def test_clamped_disc_deflects_like_a_kirchhoff_plate():
     load = 1e-6 * q * node_area[free]
     assert np.abs(grad[free, 2] - load).max() <= 1e-3 * load.max()
     assert np.abs(grad[free, :2]).max() <= 1e-3 * load.max()
+
+
+def _folded_flap(phi: float) -> np.ndarray:
+    """A unit triangle (0, 1, 2) with a flap vertex across each edge (3, 4, 5); flap 3 (across
+    edge 1-2) turned by ``phi`` (rad) about that edge, flap 4 lifted by 0.3 rad so that the
+    central triangle's coupled hinges both carry a change."""
+    tri = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    flaps = np.array([[1.0, 1.0, 0.0], [-0.7, 0.4, 0.0], [0.4, -0.7, 0.0]])
+    a, b = tri[1], tri[2]
+    axis = (b - a) / np.linalg.norm(b - a)
+    out = np.vstack([tri, flaps])
+    for k, (hinge_a, angle) in ((3, (a, phi)), (4, (tri[2], 0.3))):
+        if k == 4:
+            axis_k = (tri[0] - tri[2]) / np.linalg.norm(tri[0] - tri[2])
+        else:
+            axis_k = axis
+        r = out[k] - hinge_a
+        # Rodrigues' rotation of r about axis_k by angle
+        out[k] = hinge_a + (r * np.cos(angle) + np.cross(axis_k, r) * np.sin(angle)
+                            + axis_k * (axis_k @ r) * (1 - np.cos(angle)))
+    return out
+
+
+FOLD_TRIANGLES = np.array([[0, 1, 2], [3, 2, 1], [4, 0, 2], [5, 1, 0]])
+
+
+def test_the_energy_is_continuous_where_a_hinge_passes_pi():
+    """A flap folded about its edge through the central triangle's plane and on (its hinge's
+    angle change passing +-pi): following each hinge's turn along the path, the energy's change
+    between neighbouring states is the trapezoid rule's integral of its gradient along the
+    path, also across pi, where an angle taken modulo 2 pi makes the central triangle's
+    energy jump (its coupled hinges' cross term flips sign; structure/bending.py)."""
+    rest = _folded_flap(0.0)
+    bending = MidedgeBending.build(rest, FOLD_TRIANGLES, D, NU, boundary="free")
+    path = np.linspace(0.2, 2.0 * np.pi - 0.2, 601)
+    states = [_folded_flap(phi) for phi in path]
+    energies, grads = [], []
+    for x in states:
+        bending.follow(x)
+        e, g = bending.energy_and_gradient(x)
+        energies.append(e)
+        grads.append(g)
+    energies = np.array(energies)
+    work = np.array([0.5 * np.sum((grads[k] + grads[k + 1]) * (states[k + 1] - states[k]))
+                     for k in range(len(states) - 1)])
+    scale = np.abs(energies).max()
+    assert np.abs(np.diff(energies) - work).max() <= 1e-5 * scale
+    # beyond pi the angle change keeps growing: the flap's hinge is past pi
+    change, _, _ = bending.angle_jacobian(states[-1])
+    assert change[0, 0] > np.pi
+
+
+def test_the_gradient_past_pi_matches_finite_differences():
+    """Past pi, on the followed turn, the gradient is still the energy's."""
+    rest = _folded_flap(0.0)
+    bending = MidedgeBending.build(rest, FOLD_TRIANGLES, D, NU, boundary="free")
+    for phi in np.linspace(0.2, 3.6, 40):
+        bending.follow(_folded_flap(phi))
+    x = _folded_flap(3.6)
+    _, grad = bending.energy_and_gradient(x)
+    fd = np.zeros_like(x)
+    for k in range(len(x)):
+        for r in range(3):
+            step = np.zeros_like(x)
+            step[k, r] = 1e-6
+            fd[k, r] = (bending.energy_and_gradient(x + step)[0]
+                        - bending.energy_and_gradient(x - step)[0]) / 2e-6
+    assert np.abs(fd - grad).max() <= 1e-6 * np.abs(grad).max()

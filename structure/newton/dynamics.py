@@ -241,6 +241,7 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
         x = x + dx
         if not np.all(np.isfinite(x)):
             break
+        model.follow(x)
         if float(np.abs(dx).max()) <= STAGNATION * base.radius and \
                 abs(volume_error) <= 1e-9 * max(abs(load.volume_target or 0.0), 1e-30):
             # the correction is at round-off: the residual's floor is the cancellation of

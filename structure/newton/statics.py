@@ -194,6 +194,7 @@ def newton_at_volume(model: NewtonModel, x: np.ndarray, level: float, load: Load
                     backtracks=20 if k == len(shifts) - 1 else 4)
             if ok:
                 x, level, lin = x_new, level_new, lin_new
+                model.follow(x)
                 k = max(k - 1, 0)
                 break
             k += 1
@@ -272,6 +273,7 @@ def newton_at_level(model: NewtonModel, x: np.ndarray, load: Load,
                                                     scales)
             if ok:
                 x, lin = x_new, lin_new
+                model.follow(x)
                 break
         if not ok:
             return x, it, False, lin
@@ -526,6 +528,7 @@ def _arc_step(model, x0, level0, volume0, tangent, step, load, settings, scales)
         dx = a + dp * b
         alpha = _capped(model, dx, settings, scales)
         x = x + alpha * dx
+        model.follow(x)
         level += alpha * dp
         target += alpha * dv
     return None

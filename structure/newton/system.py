@@ -106,6 +106,13 @@ class NewtonModel:
         diagonal of M in a shifted or dynamic tangent)."""
         return np.repeat(np.where(self.free, self.base.node_mass, 0.0), 3)
 
+    def follow(self, x: np.ndarray) -> None:
+        """Carry every term's state that follows the path (the bending's hinge turns,
+        :meth:`structure.bending.MidedgeBending.follow`) to the accepted positions ``x``."""
+        for term in self.terms:
+            if hasattr(term, "follow"):
+                term.follow(x)
+
     def liquid_volume(self, x: np.ndarray) -> float:
         """V(x) (m^3): the liquid below the membrane."""
         return lower_hemisphere_volume(self.base.radius) + self.volume.evaluate(x, False)[0]
@@ -117,13 +124,16 @@ class Linearisation:
     BSR N/m (identity on fixed degrees of freedom), the volume V (m^3) and its gradient
     (n, 3) m^2 (zero on fixed nodes), and the energy (J): the potential without the level's
     term, Pi = W - rho b . M1 - sum m b . x, in the energy form; W alone in the follower
-    form, whose load has no potential on the discrete grid."""
+    form, whose load has no potential on the discrete grid; ``blocks``: the element blocks
+    the tangent was assembled from, one family per term of the pattern (None without the
+    tangent)."""
 
     residual: np.ndarray
     matrix: object
     volume: float
     volume_gradient: np.ndarray
     energy: float
+    blocks: list | None = None
 
 
 def linearise(model: NewtonModel, x: np.ndarray, level: float, load: Load,
@@ -141,7 +151,7 @@ def linearise(model: NewtonModel, x: np.ndarray, level: float, load: Load,
         energy += e
         grad += g
         families.append(b)
-    v, gv, hv = model.volume.evaluate(x, hessian)
+    v, gv, hv = model.volume.evaluate(x, hessian and model.load_form != "energy")
     volume = lower_hemisphere_volume(base.radius) + v
     if model.load_form == "energy":
         if load.liquid_density is None:
@@ -168,13 +178,18 @@ def linearise(model: NewtonModel, x: np.ndarray, level: float, load: Load,
     fixed = base.node_fixed
     grad[fixed] = 0.0
     gv[fixed] = 0.0
-    matrix = None
-    if hessian:
-        data = assemble(model.pattern, families)
-        data[model.fixed_block] = 0.0
-        data[model.diagonal_block] = np.eye(3)
-        matrix = model.pattern.matrix(data)
-    return Linearisation(grad, matrix, float(volume), gv, float(energy))
+    matrix = tangent_matrix(model, families) if hessian else None
+    return Linearisation(grad, matrix, float(volume), gv, float(energy),
+                         families if hessian else None)
+
+
+def tangent_matrix(model: NewtonModel, families) -> object:
+    """The tangent (3n, 3n) BSR N/m of element ``families`` (one per pattern family, None:
+    left out), identity on the fixed degrees of freedom."""
+    data = assemble(model.pattern, families)
+    data[model.fixed_block] = 0.0
+    data[model.diagonal_block] = np.eye(3)
+    return model.pattern.matrix(data)
 
 
 def _pressure_slope(load: Load):

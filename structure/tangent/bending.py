@@ -148,7 +148,8 @@ def dihedral_hessian(pc, pd, pa, pb, hess, work=None):
 
 
 @njit(**JIT)
-def element_hessians(x, triangles, flap, ghost, active, rest_angle, stiffness, need_hessian):
+def element_hessians(x, triangles, flap, ghost, active, rest_angle, reference, stiffness,
+                     need_hessian):
     """Energy (J), gradient (n, 3) N and element blocks (m, 6, 6, 3, 3) N/m of the bending
     (arguments as :class:`structure.bending.MidedgeBending`'s fields)."""
     n, m = x.shape[0], triangles.shape[0]
@@ -163,7 +164,8 @@ def element_hessians(x, triangles, flap, ghost, active, rest_angle, stiffness, n
     work = np.empty((64, 3))
     energy = 0.0
     for t in range(m):
-        _triangle(x, triangles, flap, ghost, active, rest_angle, t, nodes, grads, delta)
+        _triangle(x, triangles, flap, ghost, active, rest_angle, reference, t, nodes, grads,
+                  delta)
         for i in range(3):
             # element slots of hinge i's (c, d, a, b)
             local[i, 0], local[i, 1] = i, 3 + i
@@ -224,8 +226,14 @@ class BendingTerm:
         b = self.bending
         return np.ascontiguousarray(np.hstack([b.triangles, b.flap]))
 
+    def follow(self, x: np.ndarray) -> None:
+        """Move each hinge's reference turn to ``x`` (n, 3) m
+        (:meth:`structure.bending.MidedgeBending.follow`)."""
+        self.bending.follow(x)
+
     def evaluate(self, x: np.ndarray, hessian: bool = True):
         """(energy J, gradient (n, 3) N, blocks (m, 6, 6, 3, 3) N/m) at ``x`` (n, 3) m."""
         b = self.bending
         return element_hessians(np.ascontiguousarray(x, dtype=float), b.triangles, b.flap,
-                                b.ghost, b.active, b.rest_angle, b.stiffness, hessian)
+                                b.ghost, b.active, b.rest_angle, b.reference_change,
+                                b.stiffness, hessian)

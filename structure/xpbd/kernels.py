@@ -257,8 +257,8 @@ def membrane_sweep(x, inv_mass, triangles, rest_inverse, compliance, lam, inv_dt
 
 
 @njit(**JIT)
-def bending_sweep(x, inv_mass, triangles, flap, ghost, active, rest_angle, compliance, lam,
-                   inv_dt2, apply_only):
+def bending_sweep(x, inv_mass, triangles, flap, ghost, active, rest_angle, reference,
+                  compliance, lam, inv_dt2, apply_only):
     """Angle blocks of every triangle whose stencil has a free node (Gauss-Seidel)."""
     nodes = np.empty((3, 4), dtype=np.int64)
     grads = np.empty((3, 4, 3))
@@ -272,7 +272,8 @@ def bending_sweep(x, inv_mass, triangles, flap, ghost, active, rest_angle, compl
                 free = True
         if not free:
             continue
-        _triangle(x, triangles, flap, ghost, active, rest_angle, t, nodes, grads, value)
+        _triangle(x, triangles, flap, ghost, active, rest_angle, reference, t, nodes, grads,
+                  value)
         _block(x, inv_mass, nodes, grads, value, compliance, lam, t, inv_dt2, apply_only,
                a3, r3, d3)
 

@@ -13,9 +13,15 @@ from .model import XpbdDivergence, XpbdModel, XpbdMultipliers, XpbdSettings
 
 
 def sweep(model: XpbdModel, x, lam: XpbdMultipliers, settings: XpbdSettings, target,
-           apply_only: bool) -> None:
+          apply_only: bool) -> None:
     """One Gauss-Seidel sweep over every block, volume and wall (in place); with
-    ``apply_only`` the warm-start displacement W J^T lambda instead."""
+    ``apply_only`` the warm-start displacement W J^T lambda instead.
+
+    The bending's angles are read on the circle, each change in (-pi, pi] (a zero reference,
+    :mod:`structure.bending`), not along a followed turn: XPBD's projections pass the sheet
+    through itself (12 hinges of the N = 14 hemisphere's relaxation to half the tank pass
+    +-pi, some by nearly a full turn), and a followed turn would load those hinges with the
+    energy of a sheet wound through itself where the geometry is nearly flat."""
     base = model.base
     inv_dt2 = 1.0 / settings.dt**2
     membrane_sweep(x, base.node_inv_mass, model.triangles, model.rest_inverse,
@@ -24,7 +30,8 @@ def sweep(model: XpbdModel, x, lam: XpbdMultipliers, settings: XpbdSettings, tar
     if settings.bending:
         b = model.bending
         bending_sweep(x, base.node_inv_mass, b.triangles, b.flap, b.ghost, b.active,
-                       b.rest_angle, model.bending_compliance, lam.bending, inv_dt2, apply_only)
+                      b.rest_angle, np.zeros_like(b.rest_angle), model.bending_compliance,
+                      lam.bending, inv_dt2, apply_only)
     if not apply_only:
         wall_collision(x, base.node_inv_mass, base.radius, 1.0)
     if target is not None:  # last, so that each substep ends on the volume
