@@ -1,7 +1,7 @@
 """Static equilibrium of the Table 4.1 hemisphere at one tank fraction from its rest shape,
 by solver and membrane grid: seconds, iterations and the fitted growth of the cost.
 
-    python benchmarks/structure_scaling.py [--solvers newton shell xpbd]
+    python benchmarks/structure_scaling.py [--solvers minimisation ...]
                                            [--grids 14 20 26 38] [--fill 0.5]
                                            [--budget 2400] [--smoke]
 
@@ -9,9 +9,13 @@ Solvers (each from the rest shape to tank fraction ``--fill``, V / (4/3 pi R^3),
 bundled ``diaphragm-static`` scene's hydrostatic water, compilation excluded by a warm-up on
 N = 6):
 
-* ``newton``: :func:`structure.newton.statics.fill_path` on the XPBD membrane's energies (the
-  full law: plane-stress blocks and calibrated bending; the wall as a penalty), volume steps
-  of 0.02 of the tank, Newton with the level as multiplier at each, SuperLU;
+* ``minimisation``: the minimisation statics (:mod:`structure.minimise`: the wall as a
+  barrier, projected Newton with the level as multiplier, adaptive volume steps) on the XPBD
+  membrane's full law (plane-stress blocks and calibrated bending);
+* ``minimisation_tension_field``: the same on the tension field with its residual stiffness
+  (:data:`structure.minimise.RESIDUAL_STIFFNESS` of the full law);
+* ``newton``: :func:`structure.newton.statics.fill_path` on the full law with the wall as a
+  penalty, volume steps of 0.02 of the tank, SuperLU;
 * ``shell``: today's shell model (XPBD start, then L-BFGS in an augmented Lagrangian;
   :mod:`structure.shell`), as ``structure.model = "shell"`` runs it;
 * ``xpbd``: today's XPBD statics (damped substeps, then the warm-started polish), as
@@ -19,26 +23,33 @@ N = 6):
 
 A solver is not run on grids beyond the first where it took longer than ``--budget``
 seconds (40 min). Per solver it records ``grid_size``, ``nodes``, ``seconds``,
-``iterations`` (Newton iterations; L-BFGS iterations and substeps for the others),
-``converged`` and the pressure level (Pa), and fits the exponent of seconds in nodes over
-its grids. Goals (the Newton solver): N = 38 in 10 s or less, N = 76 in 60 s, N = 150 in
-10 min; iterations not growing with N. Writes ``benchmarks/output/structure_scaling.png``
-(seconds against N, the solvers side by side) and prints one JSON object (a full run also
-writes it to ``docs/data/structure_scaling.json``). ``--smoke``: :data:`SMOKE`.
+``iterations`` (Newton iterations; L-BFGS iterations and substeps for the others), whether
+it converged (``converged``; ``reached`` for the minimisation) and the pressure level (Pa;
+``pressure_level``, ``level``); the minimisation also its volume ``steps``, rejected steps,
+snaps, the median and 90th percentile of iterations per step, and its factorisations and
+their seconds. Each solver's exponent of seconds in nodes is fitted over its grids. Goals
+(:data:`GOALS_SECONDS`, both minimisation laws): N = 38 in 60 s or less, N = 76 in 5 min,
+N = 150 in 30 min. Writes ``benchmarks/output/structure_scaling.png`` (seconds against N,
+the solvers side by side) and prints one JSON object; a full run also writes it to
+``docs/data/structure_scaling.json``, keeping the solvers it did not rerun from the last
+run at the same fill (their commits in ``measured_at``). ``--smoke``: :data:`SMOKE`.
 """
 from __future__ import annotations
 
 import argparse
+import json
 import logging
 import sys
 import time
 
 import numpy as np
 
-from _report import SMOKE_HELP, emit, output_dir, seconds_by_grid
+from _report import DOCS_DATA, SMOKE_HELP, commit, emit, output_dir, seconds_by_grid
 from fsi.scene import load_scene
 from fsi.setup.build import build
 from fsi.setup.models import STRUCTURE_MODELS, hydrostatic_load
+from structure.minimise import fill_path as minimise_fill_path
+from structure.minimise import inside, minimisation_model, xpbd_terms
 from structure.model import MembraneState
 from structure.newton.statics import NewtonSettings, fill_path
 from structure.newton.system import NewtonModel
@@ -47,10 +58,11 @@ from structure.xpbd.model import XpbdModel
 
 FIGURE_NAME = "structure_scaling.png"
 #: the JSON's top-level keys the documentation reads
-DOC_FIELDS = ("fill", "solvers", "exponents", "goals_seconds")
-GOALS_SECONDS = {"38": 10.0, "76": 60.0, "150": 600.0}
-"""The Newton solver's goals: seconds at N."""
-SMOKE = dict(grids=[6, 8], solvers=["newton", "shell", "xpbd"], fill=0.2)
+DOC_FIELDS = ("fill", "solvers", "exponents", "goals_seconds", "measured_at")
+GOALS_SECONDS = {"38": 60.0, "76": 300.0, "150": 1800.0}
+"""The minimisation statics' goals, both laws: seconds at N."""
+SMOKE = dict(grids=[6, 8], solvers=["newton", "minimisation", "minimisation_tension_field",
+                                    "shell", "xpbd"], fill=0.2)
 SCENE = "diaphragm-static"
 
 
@@ -86,7 +98,37 @@ def run_registered(name: str, grid_size: int, fill: float) -> dict:
                 force_ratio=float(eq.force_ratio))
 
 
+def run_minimisation(grid_size: int, fill: float, tension_field: bool = False) -> dict:
+    """The minimisation statics (:mod:`structure.minimise`) from the rest shape (its free
+    nodes moved a tenth of the barrier's gap inside the wall) to ``fill``: the full law, or the
+    tension field with its residual stiffness."""
+    keys = {"membrane": {"grid_size": grid_size}, "structure": {"model": "xpbd"}}
+    if tension_field:
+        keys["membrane"]["wrinkling"] = "tension-field"
+    setup = build(load_scene(SCENE).with_keys(keys))
+    radius = setup.model.radius
+    load = hydrostatic_load(setup.liquid, volume_target=fill * tank_volume(radius))
+    pressure = load.liquid_density * float(np.linalg.norm(load.body_acceleration)) * radius
+    terms = xpbd_terms(XpbdModel.from_membrane(setup.model))
+    model, wall = minimisation_model(setup.model, terms, pressure)
+    start = MembraneState(inside(wall, setup.model.node_rest_position))
+    tic = time.perf_counter()
+    results, report = minimise_fill_path(model, wall, start, load, [load.volume_target])
+    seconds = time.perf_counter() - tic
+    eq = results[-1][1]
+    its = report.iterations_per_step()
+    return dict(seconds=seconds, iterations=report.iterations, steps=len(report.steps),
+                reached=bool(eq.converged), level=float(eq.pressure_level),
+                rejected=report.rejected, snaps=len(report.snaps),
+                iterations_per_step_median=float(np.median(its)) if its.size else None,
+                iterations_per_step_p90=float(np.percentile(its, 90)) if its.size else None,
+                factorisations=report.factorisations, factor_seconds=report.factor_seconds,
+                force_ratio=float(eq.force_ratio))
+
+
 RUNNERS = {"newton": run_newton,
+           "minimisation": run_minimisation,
+           "minimisation_tension_field": lambda n, f: run_minimisation(n, f, True),
            "shell": lambda n, f: run_registered("shell", n, f),
            "xpbd": lambda n, f: run_registered("xpbd", n, f)}
 
@@ -104,11 +146,27 @@ def plot(solvers: dict, figure) -> None:
     def unconverged(ax):
         for entries in solvers.values():
             for e in entries:
-                if not e["converged"]:
+                if not e.get("converged", e.get("reached")):
                     ax.plot(e["grid_size"], e["seconds"], "o", mfc="white", mec="k")
 
     seconds_by_grid(solvers, figure, "seconds to the equilibrium",
                     "Static equilibrium from the rest shape (open: not converged)", unconverged)
+
+
+def _with_earlier(solvers: dict, measured_at: dict, fill: float):
+    """The solvers of this run, and those of the last full run at the same fill that this one
+    did not rerun (their commits kept in ``measured_at``): a rerun of one solver does not drop
+    the others' hours of measurements."""
+    path = DOCS_DATA / "structure_scaling.json"
+    if not path.exists():
+        return solvers, measured_at
+    earlier = json.loads(path.read_text())
+    if earlier.get("fill") != fill:
+        return solvers, measured_at
+    kept = {k: v for k, v in earlier.get("solvers", {}).items() if k not in solvers}
+    at = earlier.get("measured_at") or {k: earlier.get("commit") for k in kept}
+    return ({**kept, **solvers},
+            {**{k: at.get(k, earlier.get("commit")) for k in kept}, **measured_at})
 
 
 def main(argv=None) -> dict:
@@ -135,13 +193,16 @@ def main(argv=None) -> dict:
             print(f"{name} N = {n} ...", file=sys.stderr, end=" ", flush=True)
             entry = dict(grid_size=n, nodes=n * n, **RUNNERS[name](n, args.fill))
             print(f"{entry['seconds']:.1f} s, {entry['iterations']} iterations, converged "
-                  f"{entry['converged']}", file=sys.stderr, flush=True)
+                  f"{entry.get('converged', entry.get('reached'))}", file=sys.stderr, flush=True)
             solvers[name].append(entry)
             if entry["seconds"] > args.budget:
                 break
+    measured_at = {name: commit() for name in solvers}
+    if not args.smoke:
+        solvers, measured_at = _with_earlier(solvers, measured_at, args.fill)
     figure = output_dir(args.smoke) / FIGURE_NAME
     plot(solvers, figure)
-    out = dict(fill=args.fill, solvers=solvers,
+    out = dict(fill=args.fill, solvers=solvers, measured_at=measured_at,
                exponents={name: exponent(e) for name, e in solvers.items()},
                goals_seconds=GOALS_SECONDS, figure=str(figure))
     emit("structure_scaling", out, args.smoke)
