@@ -3,7 +3,7 @@ by solver and membrane grid: seconds, iterations and the fitted growth of the co
 
     python benchmarks/structure_scaling.py [--solvers minimisation ...]
                                            [--grids 14 20 26 38] [--fill 0.5]
-                                           [--budget 2400] [--smoke]
+                                           [--budget 2400] [--residual-grid 38] [--smoke]
 
 Solvers (each from the rest shape to tank fraction ``--fill``, V / (4/3 pi R^3), under the
 bundled ``diaphragm-static`` scene's hydrostatic water, compilation excluded by a warm-up on
@@ -27,7 +27,11 @@ seconds (40 min). Per solver it records ``grid_size``, ``nodes``, ``seconds``,
 it converged (``converged``; ``reached`` for the minimisation) and the pressure level (Pa;
 ``pressure_level``, ``level``); the minimisation also its volume ``steps``, rejected steps,
 snaps, the median and 90th percentile of iterations per step, and its factorisations and
-their seconds. Each solver's exponent of seconds in nodes is fitted over its grids. Goals
+their seconds, and the end state's static lateral compliance C (s^2, tilts of +-0.01 m/s^2,
+each tilted equilibrium by the minimisation). With the tension field, the residual stiffness
+e of :data:`RESIDUAL_STIFFNESSES` is studied on ``--residual-grid`` (38): the same run and C
+by e (``residual_stiffness``). Each solver's exponent of seconds in nodes is fitted over its
+grids. Goals
 (:data:`GOALS_SECONDS`, both minimisation laws): N = 38 in 60 s or less, N = 76 in 5 min,
 N = 150 in 30 min. Writes ``benchmarks/output/structure_scaling.png`` (seconds against N,
 the solvers side by side) and prints one JSON object; a full run also writes it to
@@ -41,15 +45,17 @@ import json
 import logging
 import sys
 import time
+from types import SimpleNamespace
 
 import numpy as np
 
 from _report import DOCS_DATA, SMOKE_HELP, commit, emit, output_dir, seconds_by_grid
+from fsi.procedures.slosh_diaphragm import start_compliance
 from fsi.scene import load_scene
 from fsi.setup.build import build
 from fsi.setup.models import STRUCTURE_MODELS, hydrostatic_load
 from structure.minimise import fill_path as minimise_fill_path
-from structure.minimise import inside, minimisation_model, xpbd_terms
+from structure.minimise import RESIDUAL_STIFFNESS, inside, minimisation_model, xpbd_terms
 from structure.model import MembraneState
 from structure.newton.statics import NewtonSettings, fill_path
 from structure.newton.system import NewtonModel
@@ -58,12 +64,17 @@ from structure.xpbd.model import XpbdModel
 
 FIGURE_NAME = "structure_scaling.png"
 #: the JSON's top-level keys the documentation reads
-DOC_FIELDS = ("fill", "solvers", "exponents", "goals_seconds", "measured_at")
+DOC_FIELDS = ("fill", "solvers", "exponents", "goals_seconds", "measured_at",
+              "residual_stiffness")
 GOALS_SECONDS = {"38": 60.0, "76": 300.0, "150": 1800.0}
 """The minimisation statics' goals, both laws: seconds at N."""
 SMOKE = dict(grids=[6, 8], solvers=["newton", "minimisation", "minimisation_tension_field",
-                                    "shell", "xpbd"], fill=0.2)
+                                    "shell", "xpbd"], fill=0.2, residual_grid=6)
+RESIDUAL_STIFFNESSES = (1e-3, 3e-3, 1e-2)
+"""The tension field's residual stiffnesses e of the study (-)."""
 SCENE = "diaphragm-static"
+TILT = 0.01
+"""m/s^2: the lateral tilt of the static compliance C (the coupled slosh runs' start's)."""
 
 
 def _setup(grid_size: int, model: str):
@@ -98,7 +109,8 @@ def run_registered(name: str, grid_size: int, fill: float) -> dict:
                 force_ratio=float(eq.force_ratio))
 
 
-def run_minimisation(grid_size: int, fill: float, tension_field: bool = False) -> dict:
+def run_minimisation(grid_size: int, fill: float, tension_field: bool = False,
+                     residual_stiffness: float = RESIDUAL_STIFFNESS) -> dict:
     """The minimisation statics (:mod:`structure.minimise`) from the rest shape (its free
     nodes moved a tenth of the barrier's gap inside the wall) to ``fill``: the full law, or the
     tension field with its residual stiffness."""
@@ -109,13 +121,16 @@ def run_minimisation(grid_size: int, fill: float, tension_field: bool = False) -
     radius = setup.model.radius
     load = hydrostatic_load(setup.liquid, volume_target=fill * tank_volume(radius))
     pressure = load.liquid_density * float(np.linalg.norm(load.body_acceleration)) * radius
-    terms = xpbd_terms(XpbdModel.from_membrane(setup.model))
+    terms = xpbd_terms(XpbdModel.from_membrane(setup.model), residual_stiffness)
     model, wall = minimisation_model(setup.model, terms, pressure)
     start = MembraneState(inside(wall, setup.model.node_rest_position))
     tic = time.perf_counter()
     results, report = minimise_fill_path(model, wall, start, load, [load.volume_target])
     seconds = time.perf_counter() - tic
-    eq = results[-1][1]
+    state, eq = results[-1]
+    compliance = None
+    if eq.converged:
+        compliance = _compliance(setup, model, wall, state, eq, load.volume_target)
     its = report.iterations_per_step()
     return dict(seconds=seconds, iterations=report.iterations, steps=len(report.steps),
                 reached=bool(eq.converged), level=float(eq.pressure_level),
@@ -123,7 +138,21 @@ def run_minimisation(grid_size: int, fill: float, tension_field: bool = False) -
                 iterations_per_step_median=float(np.median(its)) if its.size else None,
                 iterations_per_step_p90=float(np.percentile(its, 90)) if its.size else None,
                 factorisations=report.factorisations, factor_seconds=report.factor_seconds,
-                force_ratio=float(eq.force_ratio))
+                force_ratio=float(eq.force_ratio),
+                compliance=None if compliance is None else compliance.compliance,
+                compliance_converged=None if compliance is None else compliance.converged)
+
+
+def _compliance(setup, model, wall, state, eq, volume):
+    """The end state's static lateral compliance C (s^2) under tilts of +-TILT m/s^2
+    (:func:`fsi.procedures.slosh_diaphragm.start_compliance`), each tilted equilibrium by the
+    minimisation from the end state at its volume."""
+    def solve(start_state, tilted):
+        (out,), _ = minimise_fill_path(model, wall, start_state, tilted, [volume])
+        return out
+
+    start = SimpleNamespace(state=state, volume=volume, info=eq)
+    return start_compliance(setup, start, TILT, solve)
 
 
 RUNNERS = {"newton": run_newton,
@@ -176,6 +205,9 @@ def main(argv=None) -> dict:
     parser.add_argument("--fill", type=float, default=0.5, help="tank fraction to reach")
     parser.add_argument("--budget", type=float, default=2400.0,
                         help="seconds; a solver stops at the first grid that takes longer")
+    parser.add_argument("--residual-grid", type=int, default=38,
+                        help="the grid of the tension field's residual-stiffness study "
+                             "(0: none)")
     parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
     if args.smoke:
@@ -197,12 +229,20 @@ def main(argv=None) -> dict:
             solvers[name].append(entry)
             if entry["seconds"] > args.budget:
                 break
+    residual = []
+    if args.residual_grid and "minimisation_tension_field" in args.solvers:
+        for e in RESIDUAL_STIFFNESSES:
+            print(f"tension field e = {e:g}, N = {args.residual_grid} ...", file=sys.stderr,
+                  flush=True)
+            residual.append(dict(residual_stiffness=e, grid_size=args.residual_grid,
+                                 **run_minimisation(args.residual_grid, args.fill, True, e)))
     measured_at = {name: commit() for name in solvers}
     if not args.smoke:
         solvers, measured_at = _with_earlier(solvers, measured_at, args.fill)
     figure = output_dir(args.smoke) / FIGURE_NAME
     plot(solvers, figure)
     out = dict(fill=args.fill, solvers=solvers, measured_at=measured_at,
+               residual_stiffness=residual,
                exponents={name: exponent(e) for name, e in solvers.items()},
                goals_seconds=GOALS_SECONDS, figure=str(figure))
     emit("structure_scaling", out, args.smoke)

@@ -46,6 +46,9 @@ SHIFT_GROWTH = 8.0
 """The factor by which a shift is raised while the tangent is not positive definite."""
 SHIFT_DECAY = 0.25
 """The factor by which it is lowered after an accepted step."""
+ROUND_OFF = 1e-11
+"""The merit's relative round-off: a step predicted to lower it by less is judged by the
+residual instead (at the minimum the energy's change is below what it can resolve)."""
 """The factor by which it is lowered after an accepted step."""
 
 
@@ -65,7 +68,9 @@ class MinimiseSettings:
     * step_growth, step_shrink : (-);
     * pseudo_inertia : the time h (s) of the pseudo-inertia tried when a corrector fails at
       the smallest step (0: none);
-    * pseudo_steps : pseudo-inertia steps per such crossing at most (-).
+    * pseudo_steps : pseudo-inertia steps per such crossing at most (-);
+    * continuations : how many times a corrector that ran out of iterations is continued
+      before its step is halved (-).
     """
 
     force_tolerance: float = 1e-6
@@ -74,12 +79,13 @@ class MinimiseSettings:
     volume_step: float = 0.01
     min_volume_step: float = 1e-5
     max_volume_step: float = 0.05
-    easy_iterations: int = 10
-    hard_iterations: int = 30
+    easy_iterations: int = 20
+    hard_iterations: int = 60
     step_growth: float = 1.5
     step_shrink: float = 0.7
     pseudo_inertia: float = 1e-2
     pseudo_steps: int = 200
+    continuations: int = 3
 
     def __post_init__(self):
         for name in ("force_tolerance", "volume_tolerance", "volume_step", "min_volume_step",
@@ -91,8 +97,9 @@ class MinimiseSettings:
         if not self.min_volume_step <= self.volume_step <= self.max_volume_step:
             raise ValueError("minimise volume steps must satisfy min_volume_step <= "
                              "volume_step <= max_volume_step")
-        if self.max_iterations < 1 or self.pseudo_steps < 0:
-            raise ValueError("minimise max_iterations must be >= 1 and pseudo_steps >= 0")
+        if self.max_iterations < 1 or self.pseudo_steps < 0 or self.continuations < 0:
+            raise ValueError("minimise max_iterations must be >= 1, pseudo_steps and "
+                             "continuations >= 0")
         if not self.pseudo_inertia >= 0:
             raise ValueError(f"minimise pseudo_inertia must be >= 0 s, got "
                              f"{self.pseudo_inertia!r}")
@@ -162,14 +169,14 @@ def _factor(matrix, corrector: Corrector):
 
 def kkt_step(model: NewtonModel, lin: Linearisation, target: float, scales: Scales,
              corrector: Corrector, extra_mass: float = 0.0, extra_gradient=None,
-             projected: tuple = ()):
+             projected: tuple = (), x: np.ndarray | None = None):
     """The bordered step (dx (n, 3) m, dp Pa) with the first matrix of the ladder that is
     positive definite on the volume's tangent space (module doc): the exact Hessian; then the
     Hessian with the element blocks of the terms ``projected`` (indices into ``model.terms``)
     projected to positive semi-definite (:mod:`.project`); then that one shifted by tau M,
     tau growing. ``extra_mass`` (1/s^2) adds that many M to every matrix and
     ``extra_gradient`` (n, 3) N to the residual (the pseudo-inertia). Returns (dx, dp, the
-    factorisation) or None."""
+    factorisation) or None. ``x`` (n, 3) m: the positions of ``lin`` (for the projection)."""
     mass = model.dof_mass
     residual = lin.residual if extra_gradient is None else lin.residual + extra_gradient
     g = lin.volume_gradient.ravel()
@@ -185,7 +192,7 @@ def kkt_step(model: NewtonModel, lin: Linearisation, target: float, scales: Scal
         tau = max(SHIFT_GROWTH * tau, 1e-6 * scales.shift)
     for kind, shift in ladder:
         if kind not in matrix_of:
-            matrix_of[kind] = projected_tangent(model, lin, projected)
+            matrix_of[kind] = projected_tangent(model, lin, x, projected)
         total = shift + extra_mass
         matrix = matrix_of[kind] if total == 0 else matrix_of[kind] + sp.diags(total * mass)
         lu, negative = _factor(matrix, corrector)
@@ -201,6 +208,11 @@ def kkt_step(model: NewtonModel, lin: Linearisation, target: float, scales: Scal
             dp = (target - lin.volume - float(g @ a)) / gb
             return (a + dp * b).reshape(lin.residual.shape), dp, lu
     return None
+
+
+def _residual_norm(model, lin: Linearisation, target: float, scales: Scales) -> float:
+    """The force ratio and the volume error in one measure (-)."""
+    return max(force_ratio(model, lin, scales), abs(lin.volume - target) / scales.volume * 1e3)
 
 
 def merit(lin: Linearisation, target: float, weight: float, proximal: float = 0.0) -> float:
@@ -242,7 +254,7 @@ def minimise_at_volume(model: NewtonModel, wall: BarrierWall, x: np.ndarray, lev
         if done:
             return x, level, it - 1, True, lin
         corrector.counters.iterations += 1
-        step = kkt_step(model, lin, target, scales, corrector, c, extra, projected)
+        step = kkt_step(model, lin, target, scales, corrector, c, extra, projected, x)
         if step is None:
             return x, level, it, False, lin
         dx, dp, _ = step
@@ -256,7 +268,14 @@ def minimise_at_volume(model: NewtonModel, wall: BarrierWall, x: np.ndarray, lev
         slope = float(np.sum(gradient * dx)) - weight * abs(lin.volume - target)
         alpha = min(1.0, wall.largest_step(x, dx))
         accepted = False
-        if slope < 0 and alpha > 0:
+        if alpha == 1.0 and -slope <= ROUND_OFF * abs(start):
+            # the merit cannot tell the step's decrease from its own round-off: near the
+            # minimum, accept Newton's full step where it lowers the residual instead
+            trial = linearise(model, x + dx, level + dp, load, hessian=False)
+            accepted = (np.isfinite(trial.energy)
+                        and _residual_norm(model, trial, target, scales)
+                        < _residual_norm(model, lin, target, scales))
+        if not accepted and slope < 0 and alpha > 0:
             for _ in range(30):
                 trial = linearise(model, x + alpha * dx, level + alpha * dp, load,
                                   hessian=False)

@@ -5,7 +5,9 @@ constrained minimisation (:mod:`.newton`) started from the tangent predictor.
 (:class:`.newton.MinimiseSettings`); a corrector that fails is retried at half the step,
 and below the smallest step the path crosses with the pseudo-inertia (a sequence of
 implicit-Euler steps of the undamped sheet from rest, each a strictly convex minimisation,
-until the residual without it is met), so that a snap does not end the path.
+until the residual without it is met), so that a snap does not end the path. A corrector
+that runs out of iterations is first continued from where it stopped (up to
+``continuations`` times): in a snap it is still descending.
 
 **Events.** A step whose corrector needed a shift (the predicted state was not stable on
 the volume's tangent space) or the pseudo-inertia has crossed a snap: it is recorded with its
@@ -68,7 +70,7 @@ class PathReport:
 
 
 def _predict(model: NewtonModel, wall: BarrierWall, x, level, lin, dv, scales, corrector):
-    step = kkt_step(model, lin, lin.volume, scales, corrector)
+    step = kkt_step(model, lin, lin.volume, scales, corrector, x=x)
     if step is None:
         return x, level
     _, _, lu = step
@@ -141,6 +143,15 @@ def fill_path(model: NewtonModel, wall: BarrierWall, state: MembraneState, load:
             xn, ln, its, ok_n, lin_n = minimise_at_volume(model, wall, xp, lp, load, goal, s,
                                                           scales, corrector,
                                                           projected=projected)
+            for _ in range(s.continuations):
+                if ok_n or not np.isfinite(lin_n.energy):
+                    break
+                # a corrector that ran out of iterations while descending goes on from where
+                # it stopped: its iterations are not thrown away with the step
+                xn, ln, more, ok_n, lin_n = minimise_at_volume(
+                    model, wall, xn, ln, load, goal, s, scales, corrector, lin_n,
+                    projected=projected)
+                its += more
             how = "newton"
             if not ok_n and abs(dv) <= s.min_volume_step * scales.volume and s.pseudo_inertia:
                 model.follow(x)

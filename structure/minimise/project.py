@@ -21,15 +21,23 @@ def project_blocks(blocks: np.ndarray) -> np.ndarray:
     negative = (values < 0).any(axis=1)
     if negative.any():
         v, w = vectors[negative], np.maximum(values[negative], 0.0)
-        dense[negative] = np.einsum("eij,ej,ekj->eik", v, w, v)
+        dense[negative] = (v * w[:, None, :]) @ v.transpose(0, 2, 1)
     return dense.reshape(m, k, 3, k, 3).transpose(0, 1, 3, 2, 4)
 
 
-def projected_tangent(model: NewtonModel, lin: Linearisation, projected: tuple) -> object:
-    """The tangent with the element blocks of the terms ``projected`` (indices into
-    ``model.terms``) projected to positive semi-definite (3n, 3n) BSR N/m."""
+def projected_tangent(model: NewtonModel, lin: Linearisation, x: np.ndarray,
+                      projected: tuple) -> object:
+    """The tangent at ``x`` (n, 3) m with the element blocks of the terms ``projected``
+    (indices into ``model.terms``) made positive semi-definite (3n, 3n) BSR N/m: a term's own
+    ``convex_blocks(x)`` where it has them (the bending's Gauss-Newton blocks, no eigenvalue
+    problem), else its blocks projected (:func:`project_blocks`)."""
     if lin.blocks is None:
         raise ValueError("the linearisation carries no element blocks (hessian=False)")
-    families = [project_blocks(b) if i in projected and b is not None else b
-                for i, b in enumerate(lin.blocks)]
+    families = list(lin.blocks)
+    for i in projected:
+        term = model.terms[i]
+        if hasattr(term, "convex_blocks"):
+            families[i] = term.convex_blocks(x)
+        elif families[i] is not None:
+            families[i] = project_blocks(families[i])
     return tangent_matrix(model, families)

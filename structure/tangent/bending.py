@@ -149,9 +149,11 @@ def dihedral_hessian(pc, pd, pa, pb, hess, work=None):
 
 @njit(**JIT)
 def element_hessians(x, triangles, flap, ghost, active, rest_angle, reference, stiffness,
-                     need_hessian):
+                     need_hessian, gauss_newton=False):
     """Energy (J), gradient (n, 3) N and element blocks (m, 6, 6, 3, 3) N/m of the bending
-    (arguments as :class:`structure.bending.MidedgeBending`'s fields)."""
+    (arguments as :class:`structure.bending.MidedgeBending`'s fields); with ``gauss_newton``
+    the blocks leave out the angles' own curvature, sum_i (K d)_i Hessian(theta_i), and are
+    positive semi-definite (K_T is)."""
     n, m = x.shape[0], triangles.shape[0]
     grad = np.zeros((n, 3))
     blocks = np.zeros((m, 6, 6, 3, 3)) if need_hessian else np.zeros((0, 6, 6, 3, 3))
@@ -198,7 +200,7 @@ def element_hessians(x, triangles, flap, ghost, active, rest_angle, reference, s
                             for c in range(3):
                                 blocks[t, local[i, p], local[j, q], r, c] += \
                                     kij * grads[i, p, r] * grads[j, q, c]
-            if force[i] == 0.0:
+            if force[i] == 0.0 or gauss_newton:
                 continue
             c_, a_, b_, d_ = (triangles[t, i], triangles[t, (i + 1) % 3],
                               triangles[t, (i + 2) % 3], flap[t, i])
@@ -237,3 +239,12 @@ class BendingTerm:
         return element_hessians(np.ascontiguousarray(x, dtype=float), b.triangles, b.flap,
                                 b.ghost, b.active, b.rest_angle, b.reference_change,
                                 b.stiffness, hessian)
+
+    def convex_blocks(self, x: np.ndarray) -> np.ndarray:
+        """The Gauss-Newton blocks (m, 6, 6, 3, 3) N/m, sum_ij K_ij grad(theta_i)
+        grad(theta_j)^T: positive semi-definite, the Hessian's where every angle is at its
+        reference (a projected Newton's convex part)."""
+        b = self.bending
+        return element_hessians(np.ascontiguousarray(x, dtype=float), b.triangles, b.flap,
+                                b.ghost, b.active, b.rest_angle, b.reference_change,
+                                b.stiffness, True, True)[2]
