@@ -215,3 +215,22 @@ def test_the_residual_stiffness_keeps_a_fraction_of_the_full_law():
 def test_settings_out_of_range_are_refused_by_name(key, value):
     with pytest.raises(ValueError, match=key.split("_")[0]):
         MinimiseSettings(**{key: value})
+
+
+def test_a_static_sweep_runs_on_the_minimisation(tmp_path):
+    """``structure.model = "minimisation"``: a fill and drain sweep (N = 10) with every fill
+    converged (exit 0), each fill's volume held, the levels recorded."""
+    import h5py
+
+    from fsi.cli import main
+
+    scene = tmp_path / "sweep.toml"
+    scene.write_text("[scene]\nname = 'tiny'\nprocedure = 'volume-sweep'\n[membrane]\n"
+                     "grid_size = 10\n[structure]\nmodel = 'minimisation'\n[sweep]\n"
+                     "scale = 'tank'\nfills = [0.1, 0.25, 0.4]\ndrain = true\n")
+    out = tmp_path / "run"
+    assert main(["run", str(scene), "--out", str(out), "--no-plots"]) == 0
+    with h5py.File(out / "result.h5") as f:
+        for leg in ("frames", "drain"):
+            assert np.all(f[leg]["converged"][()]), leg
+            assert np.all(np.isfinite(f[leg]["pressure_level"][()])), leg

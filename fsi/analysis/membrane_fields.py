@@ -114,6 +114,7 @@ def _rubber_text(material, at: str, tension_field: bool = False) -> str:
             + f") at the {at}'s strains")
 
 
+@field_rule("minimisation")  # the XPBD model's energies, minimised
 @field_rule("xpbd")
 def _xpbd(model: MembraneModel, scene) -> FieldRule:
     xpbd = XpbdModel.from_membrane(model)

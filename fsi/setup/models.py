@@ -14,6 +14,11 @@ load of the scene; all share the thesis's grid, masses and fixed rings (:class:`
   potential-energy minimum under the volume constraint is found by L-BFGS
   (:mod:`structure.shell`), started from the XPBD relaxation.
 
+* ``minimisation`` -- the XPBD model's energies (the tension field with its residual stiffness
+  where the scene's material wrinkles) minimised under the volume constraint by projected
+  Newton, the tank wall a smooth barrier (:mod:`structure.minimise`): every fill reached by
+  adaptive volume steps from the state before it, through the folds' snaps.
+
 ``auto`` picks, at the scene's grid size, the cheapest model whose measured Eqn 6.1 error
 (``MODEL_TABLE``, from ``benchmarks/structure_convergence.py``) is within ``structure.accuracy``.
 """
@@ -29,6 +34,8 @@ import numpy as np
 
 from fluid.hydrostatic import HydrostaticLiquid
 from structure.load import Load
+from structure.minimise import fill_path as minimisation_path
+from structure.minimise import inside, minimisation_model, xpbd_terms
 from structure.model import MembraneState
 from structure.shell import ShellModel, ShellSettings, solve_equilibrium as shell_solve
 from structure.statics import solve_equilibrium as thesis_solve
@@ -144,6 +151,22 @@ def _shell_solve(data, setup, state, load: Load):
     return out, replace(sinfo, steps=info.steps + sinfo.steps)
 
 
+def _minimisation_prepare(setup):
+    xpbd = XpbdModel.from_membrane(setup.model)
+    body = float(np.linalg.norm(setup.liquid.body_acceleration))
+    pressure = setup.liquid.density * max(body, 1.0) * setup.model.radius
+    return minimisation_model(setup.model, xpbd_terms(xpbd), pressure)
+
+
+def _minimisation_solve(data, setup, state, load: Load):
+    model, wall = data
+    start = MembraneState(inside(wall, state.node_position))
+    ((out, info),), report = minimisation_path(model, wall, start, load, [load.volume_target])
+    log.info("minimisation: %d iterations in %d volume steps, %d snaps", report.iterations,
+             len(report.steps), len(report.snaps))
+    return out, info
+
+
 register_model(StructureModel(
     "thesis", "thesis particle membrane: bending springs + App. G strain limiting",
     lambda setup: None, _thesis_solve))
@@ -153,6 +176,9 @@ register_model(StructureModel(
 register_model(StructureModel(
     "shell", "membrane + calibrated bending, potential-energy minimum (L-BFGS)",
     _shell_prepare, _shell_solve))
+register_model(StructureModel(
+    "minimisation", "XPBD model's energies, constrained minimum by projected Newton "
+    "(barrier wall)", _minimisation_prepare, _minimisation_solve))
 
 
 MODEL_TABLE_FILE = "model_table.json"

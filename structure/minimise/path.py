@@ -84,6 +84,24 @@ def _predict(model: NewtonModel, wall: BarrierWall, x, level, lin, dv, scales, c
     return x + s * dx, level + s * dv / gb
 
 
+def _correct(model, wall, x, level, load, goal, settings, scales, corrector, projected,
+             lin=None):
+    """The corrector at the volume ``goal``, continued from where it stopped (up to
+    ``settings.continuations`` times) while it runs out of iterations: in a snap it is still
+    descending, and its iterations are not thrown away with the step. (x, level, iterations,
+    converged, linearisation)."""
+    x, level, its, ok, lin = minimise_at_volume(model, wall, x, level, load, goal, settings,
+                                                scales, corrector, lin, projected=projected)
+    for _ in range(settings.continuations):
+        if ok or not np.isfinite(lin.energy):
+            break
+        x, level, more, ok, lin = minimise_at_volume(model, wall, x, level, load, goal,
+                                                     settings, scales, corrector, lin,
+                                                     projected=projected)
+        its += more
+    return x, level, its, ok, lin
+
+
 def _cross(model, wall, x, level, load, target, settings, scales, corrector, projected):
     """Pseudo-inertia steps from ``x`` until the potential's residual at ``target`` is met;
     (x, level, iterations, converged, linearisation)."""
@@ -128,8 +146,12 @@ def fill_path(model: NewtonModel, wall: BarrierWall, state: MembraneState, load:
                          "(structure.minimise.model.inside)")
     model.follow(x)
     projected = projectable(model)
-    x, level, its, ok, lin = minimise_at_volume(model, wall, x, level, load, lin.volume, s,
-                                                scales, corrector, lin, projected=projected)
+    start = lin.volume
+    x, level, its, ok, lin = _correct(model, wall, x, level, load, start, s, scales,
+                                      corrector, projected, lin)
+    if not ok and s.pseudo_inertia:
+        x, level, _, ok, lin = _cross(model, wall, x, level, load, start, s, scales,
+                                      corrector, projected)
     volume = lin.volume
     step = s.volume_step * scales.volume
     results = []
@@ -140,18 +162,8 @@ def fill_path(model: NewtonModel, wall: BarrierWall, state: MembraneState, load:
             goal = volume + dv
             xp, lp = _predict(model, wall, x, level, lin, dv, scales, corrector)
             corrector.shift, corrector.projecting = 0.0, False
-            xn, ln, its, ok_n, lin_n = minimise_at_volume(model, wall, xp, lp, load, goal, s,
-                                                          scales, corrector,
-                                                          projected=projected)
-            for _ in range(s.continuations):
-                if ok_n or not np.isfinite(lin_n.energy):
-                    break
-                # a corrector that ran out of iterations while descending goes on from where
-                # it stopped: its iterations are not thrown away with the step
-                xn, ln, more, ok_n, lin_n = minimise_at_volume(
-                    model, wall, xn, ln, load, goal, s, scales, corrector, lin_n,
-                    projected=projected)
-                its += more
+            xn, ln, its, ok_n, lin_n = _correct(model, wall, xp, lp, load, goal, s, scales,
+                                                corrector, projected)
             how = "newton"
             if not ok_n and abs(dv) <= s.min_volume_step * scales.volume and s.pseudo_inertia:
                 model.follow(x)
