@@ -30,7 +30,8 @@ snaps, the median and 90th percentile of iterations per step, and its factorisat
 their seconds, and the end state's static lateral compliance C (s^2, tilts of +-0.01 m/s^2,
 each tilted equilibrium by the minimisation). With the tension field, the residual stiffness
 e of :data:`RESIDUAL_STIFFNESSES` is studied on ``--residual-grid`` (38): the same run and C
-by e (``residual_stiffness``). Each solver's exponent of seconds in nodes is fitted over its
+by e (``residual_stiffness``). The minimisation's seconds over the shell's on the same grid
+are ``ratio_to_shell``. Each solver's exponent of seconds in nodes is fitted over its
 grids. Goals
 (:data:`GOALS_SECONDS`, both minimisation laws): N = 38 in 60 s or less, N = 76 in 5 min,
 N = 150 in 30 min. Writes ``benchmarks/output/structure_scaling.png`` (seconds against N,
@@ -65,7 +66,7 @@ from structure.xpbd.model import XpbdModel
 FIGURE_NAME = "structure_scaling.png"
 #: the JSON's top-level keys the documentation reads
 DOC_FIELDS = ("fill", "solvers", "exponents", "goals_seconds", "measured_at",
-              "residual_stiffness")
+              "residual_stiffness", "ratio_to_shell")
 GOALS_SECONDS = {"38": 60.0, "76": 300.0, "150": 1800.0}
 """The minimisation statics' goals, both laws: seconds at N."""
 SMOKE = dict(grids=[6, 8], solvers=["newton", "minimisation", "minimisation_tension_field",
@@ -241,8 +242,13 @@ def main(argv=None) -> dict:
         solvers, measured_at = _with_earlier(solvers, measured_at, args.fill)
     figure = output_dir(args.smoke) / FIGURE_NAME
     plot(solvers, figure)
+    peer = {e["grid_size"]: e["seconds"] for e in solvers.get("shell", [])}
+    ratio_to_shell = {name: {str(e["grid_size"]): e["seconds"] / peer[e["grid_size"]]
+                             for e in solvers[name] if e["grid_size"] in peer}
+                      for name in ("minimisation", "minimisation_tension_field")
+                      if name in solvers}
     out = dict(fill=args.fill, solvers=solvers, measured_at=measured_at,
-               residual_stiffness=residual,
+               residual_stiffness=residual, ratio_to_shell=ratio_to_shell,
                exponents={name: exponent(e) for name, e in solvers.items()},
                goals_seconds=GOALS_SECONDS, figure=str(figure))
     emit("structure_scaling", out, args.smoke)

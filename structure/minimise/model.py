@@ -1,7 +1,7 @@
 """The potential that the minimisation statics minimise, built from a membrane model's
 energies: the in-plane law (the full law, or the tension field with a residual stiffness),
-the calibrated bending, the tank wall as a barrier (:mod:`.barrier`) and the hydrostatic
-load's potential (the energy form of :mod:`structure.newton.system`),
+the calibrated bending, the tank wall as a barrier (:mod:`structure.minimise.barrier`) and
+the hydrostatic load's potential (the energy form of :mod:`structure.newton.system`),
 
     Pi(x) = W_membrane + W_bending + B_wall - rho b . M1 - sum_i m_i b . x_i,
 

@@ -1,24 +1,27 @@
 """Projected Newton on the potential at a held volume: each step solves the bordered system
 
-    [K + tau M   g] [dx ]   [-r      ]
-    [g^T         0] [-dp] = [V* - V  ],
+    [H   g] [dx ]   [-r      ]
+    [g^T 0] [-dp] = [V* - V  ],
 
-K the Lagrangian's Hessian (:func:`structure.newton.system.linearise`, energy form), g = dV/dx,
-r its gradient, M the lumped masses, with the shift tau >= 0 chosen by the inertia of the
-factorisation: SuperLU in symmetric mode gives K + tau M's negative eigenvalues from the signs
-of its pivots (:mod:`structure.inertia`), one fewer on the volume's tangent space where
-g^T (K + tau M)^-1 g < 0, and tau is raised until none is left. The step is then a descent
-direction of the merit
+r the Lagrangian's gradient, g = dV/dx, and H the first matrix of a ladder that is positive
+definite on the volume's tangent space: the exact Hessian K of the Lagrangian
+(:func:`structure.newton.system.linearise`, energy form); then K with the membrane's element
+blocks projected to positive semi-definite and the bending's Gauss-Newton blocks
+(:mod:`structure.minimise.project`); then that matrix shifted by tau M (M the lumped
+masses), tau growing. Whether a matrix will do is read from its factorisation: SuperLU in
+symmetric mode gives its negative eigenvalues from the signs of its pivots
+(:mod:`structure.inertia`), one fewer on the volume's tangent space where g^T H^-1 g < 0.
+The step is then a descent direction of the merit
 
     phi(x) = Pi(x) + nu |V(x) - V*|,     nu > |p|
 
 (an exact penalty: Nocedal & Wright, *Numerical Optimization*, 2006, sec. 15.5), cut to the
-barrier's largest step (:meth:`.barrier.BarrierWall.largest_step`) and backtracked until
-Armijo's condition holds. Near a minimum the shift is zero and the step is Newton's on the
-KKT system (quadratic convergence). The shift is carried from one iteration to the next,
-lowered fourfold after an accepted step and raised after a rejected one, so that most
-iterations factorise once (Levenberg-Marquardt's adaptive damping, with the inertia deciding
-instead of a trial step).
+barrier's largest step (:meth:`structure.minimise.barrier.BarrierWall.largest_step`) and
+backtracked until Armijo's condition holds; where the merit's predicted change is below its
+round-off (at the minimum), Newton's full step is taken if it lowers the residual. Near a
+minimum the exact Hessian serves and the convergence is quadratic. The shift is carried from
+one iteration to the next, lowered fourfold after a full step and raised after a rejected one
+(Levenberg-Marquardt's adaptive damping, with the inertia deciding instead of a trial step).
 
 A step may also carry a pseudo-inertia, h: the term M / (2 h^2) |x - x_prev|^2 added to the
 potential (an implicit Euler step of a sheet without damping, started at rest), which makes
@@ -173,8 +176,8 @@ def kkt_step(model: NewtonModel, lin: Linearisation, target: float, scales: Scal
     """The bordered step (dx (n, 3) m, dp Pa) with the first matrix of the ladder that is
     positive definite on the volume's tangent space (module doc): the exact Hessian; then the
     Hessian with the element blocks of the terms ``projected`` (indices into ``model.terms``)
-    projected to positive semi-definite (:mod:`.project`); then that one shifted by tau M,
-    tau growing. ``extra_mass`` (1/s^2) adds that many M to every matrix and
+    made positive semi-definite (:mod:`structure.minimise.project`); then that one shifted
+    by tau M, tau growing. ``extra_mass`` (1/s^2) adds that many M to every matrix and
     ``extra_gradient`` (n, 3) N to the residual (the pseudo-inertia). Returns (dx, dp, the
     factorisation) or None. ``x`` (n, 3) m: the positions of ``lin`` (for the projection)."""
     mass = model.dof_mass

@@ -1,13 +1,14 @@
 """The fill path by minimisation: volume steps from a start to each target, every step a
-constrained minimisation (:mod:`.newton`) started from the tangent predictor.
+constrained minimisation (:mod:`structure.minimise.newton`) started from the tangent
+predictor.
 
 **Steps.** The volume step grows after an easy corrector and shrinks after a hard one
-(:class:`.newton.MinimiseSettings`); a corrector that fails is retried at half the step,
-and below the smallest step the path crosses with the pseudo-inertia (a sequence of
-implicit-Euler steps of the undamped sheet from rest, each a strictly convex minimisation,
-until the residual without it is met), so that a snap does not end the path. A corrector
-that runs out of iterations is first continued from where it stopped (up to
-``continuations`` times): in a snap it is still descending.
+(:class:`structure.minimise.newton.MinimiseSettings`). A corrector that runs out of
+iterations is continued from where it stopped (up to ``continuations`` times: in a snap it
+is still descending); one that still fails is retried at half the step, and below the
+smallest step the path crosses with the pseudo-inertia (a sequence of implicit-Euler steps of
+the undamped sheet from rest, each a strictly convex minimisation, until the residual without
+it is met), so that a snap does not end the path.
 
 **Events.** A step whose corrector needed a shift (the predicted state was not stable on
 the volume's tangent space) or the pseudo-inertia has crossed a snap: it is recorded with its
@@ -129,8 +130,8 @@ def _cross(model, wall, x, level, load, target, settings, scales, corrector, pro
 def fill_path(model: NewtonModel, wall: BarrierWall, state: MembraneState, load: Load,
               targets, settings: MinimiseSettings = MinimiseSettings(), progress=None):
     """Equilibria at the volumes ``targets`` (m^3, in order) from ``state`` (its nodes inside
-    the barrier: :func:`.model.inside`), by the minimisation statics (module doc). Returns
-    (one (:class:`MembraneState`, :class:`structure.load.Equilibrium`) per target, the
+    the barrier: :func:`structure.minimise.model.inside`), by the minimisation statics (module
+    doc). Returns (one (:class:`MembraneState`, :class:`structure.load.Equilibrium`) per target, the
     :class:`PathReport`); after a target is missed every later one is returned not converged.
     ``progress``: called with each accepted step's volume (m^3)."""
     tic = time.perf_counter()
