@@ -227,10 +227,95 @@ def test_a_static_sweep_runs_on_the_minimisation(tmp_path):
     scene = tmp_path / "sweep.toml"
     scene.write_text("[scene]\nname = 'tiny'\nprocedure = 'volume-sweep'\n[membrane]\n"
                      "grid_size = 10\n[structure]\nmodel = 'minimisation'\n[sweep]\n"
-                     "scale = 'tank'\nfills = [0.1, 0.25, 0.4]\ndrain = true\n")
+                     "scale = 'tank'\nfills = [0.2, 0.4]\ndrain = true\n")
     out = tmp_path / "run"
     assert main(["run", str(scene), "--out", str(out), "--no-plots"]) == 0
     with h5py.File(out / "result.h5") as f:
         for leg in ("frames", "drain"):
             assert np.all(f[leg]["converged"][()]), leg
             assert np.all(np.isfinite(f[leg]["pressure_level"][()])), leg
+
+
+def test_the_pseudo_inertia_crosses_to_an_equilibrium():
+    """The path's last resort at the smallest step: proximal steps M / (2 h^2) |x - x_prev|^2
+    from a state far from equilibrium (the rest shape pulled in by 5 % at its own volume) end
+    on an equilibrium of the potential without the term."""
+    from structure.minimise.model import projectable
+    from structure.minimise.path import _cross
+
+    setup, _, model, wall = _hemisphere(8)
+    radius = setup.model.radius
+    free = wall.weight > 0
+    x = setup.model.node_rest_position.copy()
+    x[free] *= 0.95
+    load = hydrostatic_load(setup.liquid, volume_target=model.liquid_volume(x))
+    model.follow(x)
+    settings = MinimiseSettings()
+    scales = Scales.of(model, load)
+    x, level, iterations, converged, lin = _cross(model, wall, x, 0.0, load,
+                                                  load.volume_target, settings, scales,
+                                                  Corrector(), projectable(model))
+    assert converged and iterations > 0
+    assert abs(lin.volume - load.volume_target) <= 1e-9 * tank_volume(radius)
+    assert np.abs(lin.residual[free]).max() <= settings.force_tolerance * scales.force
+    assert np.all(wall.gaps(x)[free] > 0)
+
+
+def test_self_contact_carries_the_pressure_at_a_tenth_of_dhat_on_any_triangle_size():
+    """The pairs are area-weighted, so two parallel triangles of four times the probe's area a
+    tenth of dhat apart carry the calibrating pressure, as the wall's barrier does."""
+    from structure.minimise.contact import SelfContact
+
+    dhat, pressure = 1e-3, 2000.0
+    lower = 2.0 * np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    points = np.vstack([lower, lower + np.array([0.2, 0.2, 0.1 * dhat])])
+    faces = np.array([[0, 1, 2], [3, 4, 5]])
+    contact = SelfContact.build(points, faces, np.ones(6, dtype=bool), dhat, pressure)
+    energy, grad, matrix = contact.evaluate(points)
+    assert energy > 0 and matrix.shape == (18, 18)
+    assert abs(grad[3:, 2].sum()) / 2.0 == pytest.approx(pressure, rel=1e-6)
+    # apart by more than dhat, nothing
+    apart = points + np.array([0, 0, 2 * dhat]) * (np.arange(6) >= 3)[:, None]
+    assert contact.evaluate(apart)[0] == 0.0
+
+
+def test_self_contact_stops_a_flap_short_of_the_sheet():
+    """A triangle driven through another is stopped by the continuous collision detection
+    before they meet; the wall's own limit is kept beside it."""
+    from structure.minimise.contact import Obstacles, SelfContact
+
+    lower = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0]]) - 0.03
+    upper = lower + np.array([0.01, 0.01, 0.002])
+    upper[2, 2] += 0.004                             # tilted: the step pierces the lower one
+    points = np.vstack([lower, upper])
+    faces = np.array([[0, 1, 2], [3, 4, 5]])
+    free = np.ones(6, dtype=bool)
+    contact = SelfContact.build(points, faces, free, 1e-3, 2000.0)
+    wall = BarrierWall.build(free, np.full(6, 1e-3), 0.2, 1e-3, 2000.0)
+    step = np.zeros_like(points)
+    step[3:, 2] = -0.004                             # through the lower triangle
+    alpha = Obstacles(wall, contact).largest_step(points, step)
+    assert 0 < alpha < 0.5                           # they would first touch at 0.5
+    assert not contact.intersecting(points + alpha * step)
+    assert contact.intersecting(points + step)
+
+
+def test_the_full_law_fills_without_passing_through_itself_with_self_contact():
+    """The full law's fold states pass through themselves from N = 26 without self-contact
+    (docs/notes/minimisation-statics.md); with it the path reaches its fills converged and
+    the sheet never intersects itself, nor does a flap fold through its neighbour."""
+    from structure.minimise.contact import Obstacles, SelfContact
+
+    setup, xpbd, model, wall = _hemisphere(10)
+    radius = setup.model.radius
+    contact = SelfContact.build(setup.model.node_rest_position, xpbd.triangles,
+                                ~setup.model.node_fixed, 2.5e-4, 2000.0)
+    targets = [0.2 * tank_volume(radius), 0.4 * tank_volume(radius)]
+    load = hydrostatic_load(setup.liquid, volume_target=targets[-1])
+    results, _ = fill_path(model, Obstacles(wall, contact),
+                           MembraneState(inside(wall, setup.model.node_rest_position)), load,
+                           targets)
+    for state, eq in results:
+        assert eq.converged
+        assert not contact.intersecting(state.node_position)
+    assert np.abs(xpbd.bending.reference_change).max() < np.pi

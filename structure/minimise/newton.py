@@ -40,7 +40,6 @@ from ..inertia import factor_symmetric
 from ..load import Load
 from ..newton.system import Linearisation, NewtonModel, linearise
 from ..volume import tank_volume
-from .barrier import BarrierWall
 from .project import projected_tangent
 
 log = logging.getLogger(__name__)
@@ -149,6 +148,24 @@ class Corrector:
     projecting: bool = False
 
 
+def evaluate(model: NewtonModel, obstacles, x: np.ndarray, level: float, load: Load,
+             hessian: bool = True) -> Linearisation:
+    """:func:`structure.newton.system.linearise` with the self-contact of ``obstacles`` (a
+    :class:`structure.minimise.contact.Obstacles`; a bare wall has none) added: its energy,
+    gradient, and Hessian as the linearisation's ``extra``."""
+    lin = linearise(model, x, level, load, hessian)
+    contact = getattr(obstacles, "contact", None)
+    if contact is None:
+        return lin
+    energy, grad, matrix = contact.evaluate(x, hessian)
+    lin.energy += energy
+    lin.residual = lin.residual + grad
+    if hessian:
+        lin.extra = matrix
+        lin.matrix = sp.csr_matrix(lin.matrix) + matrix
+    return lin
+
+
 def force_ratio(model: NewtonModel, lin: Linearisation, scales: Scales) -> float:
     """The largest free-node residual force over the force scale (-)."""
     r = lin.residual[model.free]
@@ -223,7 +240,7 @@ def merit(lin: Linearisation, target: float, weight: float, proximal: float = 0.
     return lin.energy + proximal + weight * abs(lin.volume - target)
 
 
-def minimise_at_volume(model: NewtonModel, wall: BarrierWall, x: np.ndarray, level: float,
+def minimise_at_volume(model: NewtonModel, wall, x: np.ndarray, level: float,
                        load: Load, target: float, settings: MinimiseSettings, scales: Scales,
                        corrector: Corrector, lin: Linearisation | None = None,
                        pseudo_inertia: float = 0.0, max_iterations: int | None = None,
@@ -233,7 +250,7 @@ def minimise_at_volume(model: NewtonModel, wall: BarrierWall, x: np.ndarray, lev
     minimum about ``x`` instead (its residual with the term). Returns (x, level, iterations,
     converged, linearisation at x)."""
     x = np.array(x, dtype=float)
-    lin = lin or linearise(model, x, level, load)
+    lin = lin or evaluate(model, wall, x, level, load)
     anchor = x.copy()
     mass = model.dof_mass.reshape(x.shape)
     c = 1.0 / pseudo_inertia**2 if pseudo_inertia > 0 else 0.0
@@ -274,14 +291,14 @@ def minimise_at_volume(model: NewtonModel, wall: BarrierWall, x: np.ndarray, lev
         if alpha == 1.0 and -slope <= ROUND_OFF * abs(start):
             # the merit cannot tell the step's decrease from its own round-off: near the
             # minimum, accept Newton's full step where it lowers the residual instead
-            trial = linearise(model, x + dx, level + dp, load, hessian=False)
+            trial = evaluate(model, wall, x + dx, level + dp, load, hessian=False)
             accepted = (np.isfinite(trial.energy)
                         and _residual_norm(model, trial, target, scales)
                         < _residual_norm(model, lin, target, scales))
         if not accepted and slope < 0 and alpha > 0:
             for _ in range(30):
-                trial = linearise(model, x + alpha * dx, level + alpha * dp, load,
-                                  hessian=False)
+                trial = evaluate(model, wall, x + alpha * dx, level + alpha * dp, load,
+                                 hessian=False)
                 value = merit(trial, target, weight, proximal(x + alpha * dx))
                 if np.isfinite(value) and value <= start + 1e-4 * alpha * slope:
                     accepted = True
@@ -296,7 +313,7 @@ def minimise_at_volume(model: NewtonModel, wall: BarrierWall, x: np.ndarray, lev
         x = x + alpha * dx
         level = level + alpha * dp
         model.follow(x)
-        lin = linearise(model, x, level, load)
+        lin = evaluate(model, wall, x, level, load)
         if alpha == 1.0:
             corrector.shift *= SHIFT_DECAY
             corrector.projecting = corrector.projecting and corrector.shift >= 1e-8 * scales.shift

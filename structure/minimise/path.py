@@ -27,10 +27,9 @@ import numpy as np
 
 from ..load import Equilibrium, Load
 from ..model import MembraneState
-from ..newton.system import NewtonModel, linearise
-from .barrier import BarrierWall
+from ..newton.system import NewtonModel
 from .model import projectable
-from .newton import (Corrector, MinimiseSettings, Scales, force_ratio, kkt_step,
+from .newton import (Corrector, MinimiseSettings, Scales, evaluate, force_ratio, kkt_step,
                      minimise_at_volume)
 
 log = logging.getLogger(__name__)
@@ -70,7 +69,9 @@ class PathReport:
         return [s for s in self.steps if not s.stable_start or s.how != "newton"]
 
 
-def _predict(model: NewtonModel, wall: BarrierWall, x, level, lin, dv, scales, corrector):
+def _predict(model: NewtonModel, wall, x, level, lin, dv, scales, corrector):
+    """The tangent predictor (module doc) for a volume change ``dv`` (m^3) from the converged
+    state ``x`` (n, 3) m, ``level`` (Pa); (x, level) unchanged where it cannot be formed."""
     step = kkt_step(model, lin, lin.volume, scales, corrector, x=x)
     if step is None:
         return x, level
@@ -127,11 +128,13 @@ def _cross(model, wall, x, level, load, target, settings, scales, corrector, pro
     return x, level, total, False, lin
 
 
-def fill_path(model: NewtonModel, wall: BarrierWall, state: MembraneState, load: Load,
+def fill_path(model: NewtonModel, wall, state: MembraneState, load: Load,
               targets, settings: MinimiseSettings = MinimiseSettings(), progress=None):
     """Equilibria at the volumes ``targets`` (m^3, in order) from ``state`` (its nodes inside
     the barrier: :func:`structure.minimise.model.inside`), by the minimisation statics (module
-    doc). Returns (one (:class:`MembraneState`, :class:`structure.load.Equilibrium`) per target, the
+    doc); ``wall`` the tank wall's :class:`structure.minimise.barrier.BarrierWall`, or a
+    :class:`structure.minimise.contact.Obstacles` with the sheet's self-contact. Returns (one
+    (:class:`MembraneState`, :class:`structure.load.Equilibrium`) per target, the
     :class:`PathReport`); after a target is missed every later one is returned not converged.
     ``progress``: called with each accepted step's volume (m^3)."""
     tic = time.perf_counter()
@@ -141,7 +144,7 @@ def fill_path(model: NewtonModel, wall: BarrierWall, state: MembraneState, load:
     report = PathReport()
     x = np.array(state.node_position, dtype=float)
     level = float(load.pressure_level)
-    lin = linearise(model, x, level, load)
+    lin = evaluate(model, wall, x, level, load)
     if not np.isfinite(lin.energy):
         raise ValueError("the start has a node on or beyond the tank wall: move it inside "
                          "(structure.minimise.model.inside)")

@@ -7,6 +7,7 @@ and far less damped than a uniform shift of the whole matrix."""
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..newton.system import Linearisation, NewtonModel, tangent_matrix
 
@@ -40,4 +41,5 @@ def projected_tangent(model: NewtonModel, lin: Linearisation, x: np.ndarray,
             families[i] = term.convex_blocks(x)
         elif families[i] is not None:
             families[i] = project_blocks(families[i])
-    return tangent_matrix(model, families)
+    matrix = tangent_matrix(model, families)
+    return matrix if lin.extra is None else sp.csr_matrix(matrix) + lin.extra

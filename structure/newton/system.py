@@ -126,7 +126,8 @@ class Linearisation:
     term, Pi = W - rho b . M1 - sum m b . x, in the energy form; W alone in the follower
     form, whose load has no potential on the discrete grid; ``blocks``: the element blocks
     the tangent was assembled from, one family per term of the pattern (None without the
-    tangent)."""
+    tangent); ``extra``: a matrix (3n, 3n) added to the tangent outside the pattern (a
+    self-contact's, whose pairs change), or None."""
 
     residual: np.ndarray
     matrix: object
@@ -134,6 +135,7 @@ class Linearisation:
     volume_gradient: np.ndarray
     energy: float
     blocks: list | None = None
+    extra: object = None
 
 
 def linearise(model: NewtonModel, x: np.ndarray, level: float, load: Load,
