@@ -263,15 +263,17 @@ def minimise_at_volume(model: NewtonModel, wall, x: np.ndarray, level: float,
     def proximal(y):
         return 0.5 * c * float(np.sum(mass * (y - anchor) ** 2)) if c else 0.0
 
+    def done(x, lin):
+        """Converged: with the pseudo-inertia, its residual with the term."""
+        if not c:
+            return converged(model, lin, target, settings, scales)
+        r = (lin.residual + c * mass * (x - anchor))[model.free]
+        return (float(np.abs(r).max()) <= settings.force_tolerance * scales.force
+                and abs(lin.volume - target) <= settings.volume_tolerance * scales.volume)
+
     for it in range(1, limit + 1):
         extra = c * mass * (x - anchor) if c else None
-        if c:
-            r = (lin.residual + extra)[model.free]
-            done = (float(np.abs(r).max()) <= settings.force_tolerance * scales.force
-                    and abs(lin.volume - target) <= settings.volume_tolerance * scales.volume)
-        else:
-            done = converged(model, lin, target, settings, scales)
-        if done:
+        if done(x, lin):
             return x, level, it - 1, True, lin
         corrector.counters.iterations += 1
         step = kkt_step(model, lin, target, scales, corrector, c, extra, projected, x)
@@ -317,10 +319,4 @@ def minimise_at_volume(model: NewtonModel, wall, x: np.ndarray, level: float,
         if alpha == 1.0:
             corrector.shift *= SHIFT_DECAY
             corrector.projecting = corrector.projecting and corrector.shift >= 1e-8 * scales.shift
-    if c:
-        r = (lin.residual + c * mass * (x - anchor))[model.free]
-        done = (float(np.abs(r).max()) <= settings.force_tolerance * scales.force
-                and abs(lin.volume - target) <= settings.volume_tolerance * scales.volume)
-    else:
-        done = converged(model, lin, target, settings, scales)
-    return x, level, limit, done, lin
+    return x, level, limit, done(x, lin), lin
