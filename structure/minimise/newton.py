@@ -31,6 +31,7 @@ physical (descending) path rather than jump.
 from __future__ import annotations
 
 import logging
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -178,8 +179,6 @@ def converged(model, lin, target, settings: MinimiseSettings, scales: Scales) ->
 
 
 def _factor(matrix, corrector: Corrector):
-    import time
-
     tic = time.perf_counter()
     lu, negative = factor_symmetric(matrix)
     corrector.counters.factorisations += 1
