@@ -26,9 +26,11 @@ beyond pi is a sheet that has folded through itself. Because K_T couples a trian
 hinges, taking a change modulo 2 pi would make the energy jump where a hinge passes +-pi (its
 d flips sign, the cross terms with it). Each hinge's change is therefore taken within pi of
 its own reference, ``reference_change`` (zero at build: the rest shape's branch), and the
-solvers move the reference along with the state (:meth:`MidedgeBending.follow` after each
-accepted step or substep), so that along any path whose steps turn no hinge by pi or more
-the energy is continuous. The reference is the one piece of state the bending carries.
+Newton, minimisation and L-BFGS solvers move the reference along with the state
+(:meth:`MidedgeBending.follow` after each accepted iterate), so that along any path whose
+steps turn no hinge by pi or more the energy is continuous. The reference is the one piece of
+state the bending carries. XPBD reads each change on the circle (a zero reference;
+:func:`structure.xpbd.substep.sweep` says why).
 
 Boundary edges: ``clamped`` puts a fixed ghost vertex across the edge (the triangle's opposite
 vertex reflected through the edge at rest), so the edge keeps its reference slope; ``free``
