@@ -20,6 +20,9 @@ from fsi.setup.limits import check_memory
 from fsi.setup.models import choose_model
 from fsi.registry import PROCEDURES, Procedure, SceneError
 
+WRINKLING_MODELS = ("xpbd", "minimisation")
+"""Structure models that run the XPBD model's energies, and so its wrinkling laws."""
+
 
 @dataclass(frozen=True)
 class Setup:
@@ -77,10 +80,10 @@ def build(scene) -> Setup:
     structure = scene["structure"]
     chosen = procedure.structure_model or choose_model(structure["model"], model.grid_size,
                                                        structure["accuracy"])
-    if m["wrinkling"] != "none" and chosen != "xpbd":
+    if m["wrinkling"] != "none" and chosen not in WRINKLING_MODELS:
         raise SceneError(f"scene key 'membrane.wrinkling' = '{m['wrinkling']}' needs the xpbd "
-                         f"model, and this scene runs '{chosen}'; allowed: 'none', or "
-                         "structure.model = 'xpbd'")
+                         f"model's energies, and this scene runs '{chosen}'; allowed: 'none', "
+                         f"or structure.model one of {list(WRINKLING_MODELS)}")
     setup = Setup(scene, model, liquid, constraints, relaxation_settings(scene, constraints),
                   chosen)
     procedure.check_setup(setup)
