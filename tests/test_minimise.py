@@ -148,7 +148,7 @@ def test_the_hemisphere_keeps_newtons_fold_state_at_a_tenth_of_the_tank():
     assert eq.converged
     start = inside(wall, reference.node_position)
     model.follow(start)
-    scales = Scales.of(model, load)
+    scales = Scales(model, load)
     x, level, iterations, converged, lin = minimise_at_volume(
         model, wall, start, eq.pressure_level, load, target, MinimiseSettings(), scales,
         Corrector(), projected=projectable(model))
@@ -251,7 +251,7 @@ def test_the_pseudo_inertia_crosses_to_an_equilibrium():
     load = hydrostatic_load(setup.liquid, volume_target=model.liquid_volume(x))
     model.follow(x)
     settings = MinimiseSettings()
-    scales = Scales.of(model, load)
+    scales = Scales(model, load)
     x, level, iterations, converged, lin = _cross(model, wall, x, 0.0, load,
                                                   load.volume_target, settings, scales,
                                                   Corrector(), projectable(model))

@@ -132,10 +132,3 @@ class Obstacles:
         if self.contact is not None and alpha > 0:
             alpha = min(alpha, self.contact.largest_step(x, alpha * dx) * alpha)
         return alpha
-
-    def gaps(self, x: np.ndarray) -> np.ndarray:
-        return self.wall.gaps(x)
-
-    @property
-    def weight(self) -> np.ndarray:
-        return self.wall.weight

@@ -39,8 +39,8 @@ import scipy.sparse as sp
 
 from ..inertia import factor_symmetric
 from ..load import Load
+from ..newton.statics import SolveScales, converged, force_ratio
 from ..newton.system import Linearisation, NewtonModel, linearise
-from ..volume import tank_volume
 from .project import projected_tangent
 
 log = logging.getLogger(__name__)
@@ -117,24 +117,12 @@ class Counters:
     factor_seconds: float = 0.0
 
 
-@dataclass
-class Scales:
-    """Units of the solve: force (N), level (Pa), tank volume (m^3), the shift's scale
-    (1/s^2, the median of diag K / M on the free nodes at the start)."""
+class Scales(SolveScales):
+    """The Newton statics' units of a solve (force N, level Pa, tank volume m^3), with the
+    shift's scale (1/s^2, the median of diag K / M on the free nodes, set by the first
+    corrector)."""
 
-    force: float
-    level: float
-    volume: float
     shift: float = 0.0
-
-    @classmethod
-    def of(cls, model: NewtonModel, load: Load) -> "Scales":
-        base = model.base
-        body = np.linalg.norm(np.asarray(load.body_acceleration, dtype=float))
-        density = load.liquid_density or 1000.0
-        area = base.node_mass / (base.material.density * base.material.thickness)
-        level = max(density * max(body, 1.0) * base.radius, abs(load.pressure_level))
-        return cls(level * float(area.max()), level, tank_volume(base.radius))
 
 
 @dataclass
@@ -165,17 +153,6 @@ def evaluate(model: NewtonModel, obstacles, x: np.ndarray, level: float, load: L
         lin.extra = matrix
         lin.matrix = sp.csr_matrix(lin.matrix) + matrix
     return lin
-
-
-def force_ratio(model: NewtonModel, lin: Linearisation, scales: Scales) -> float:
-    """The largest free-node residual force over the force scale (-)."""
-    r = lin.residual[model.free]
-    return float(np.abs(r).max() / scales.force) if r.size else 0.0
-
-
-def converged(model, lin, target, settings: MinimiseSettings, scales: Scales) -> bool:
-    return (force_ratio(model, lin, scales) <= settings.force_tolerance
-            and abs(lin.volume - target) <= settings.volume_tolerance * scales.volume)
 
 
 def _factor(matrix, corrector: Corrector):

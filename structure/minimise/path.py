@@ -139,7 +139,7 @@ def fill_path(model: NewtonModel, wall, state: MembraneState, load: Load,
     ``progress``: called with each accepted step's volume (m^3)."""
     tic = time.perf_counter()
     s = settings
-    scales = Scales.of(model, load)
+    scales = Scales(model, load)
     corrector = Corrector()
     report = PathReport()
     x = np.array(state.node_position, dtype=float)

@@ -114,7 +114,7 @@ class NewtonReport:
         return bool(np.all(np.real(self.eigenvalues) >= 0.0))
 
 
-class _Scales:
+class SolveScales:
     """Units of the solve: force (N), length (m), level (Pa), volume (m^3)."""
 
     def __init__(self, model: NewtonModel, load: Load):
@@ -129,13 +129,13 @@ class _Scales:
         self.node_length = base.node_length_scale
 
 
-def _force_ratio(model: NewtonModel, lin: Linearisation, scales: _Scales) -> float:
+def force_ratio(model: NewtonModel, lin: Linearisation, scales: SolveScales) -> float:
     r = lin.residual[model.free]
     return float(np.abs(r).max() / scales.force) if r.size else 0.0
 
 
 def _capped(model: NewtonModel, dx: np.ndarray, settings: NewtonSettings,
-            scales: _Scales) -> float:
+            scales: SolveScales) -> float:
     """The largest step fraction (<= 1) keeping every node's move within max_move of its
     length scale."""
     move = np.sqrt(np.einsum("ij,ij->i", dx, dx)) / scales.node_length
@@ -173,16 +173,16 @@ def _bordered_step(model, lin: Linearisation, target, scales, shift: float):
 
 
 def newton_at_volume(model: NewtonModel, x: np.ndarray, level: float, load: Load,
-                     target: float, settings: NewtonSettings, scales: _Scales | None = None):
+                     target: float, settings: NewtonSettings, scales: SolveScales | None = None):
     """Newton's method at the fixed volume ``target`` (m^3) from positions ``x`` (n, 3) m and
     level ``level`` (Pa). Returns (x, level, iterations, converged, last linearisation)."""
-    scales = scales or _Scales(model, load)
+    scales = scales or SolveScales(model, load)
     x = np.array(x, dtype=float)
     lin = linearise(model, x, level, load)
     shifts = _shifts(model, scales)
     k = 0  # index of the Levenberg shift in use: raised on a rejected step, lowered after
     for it in range(1, settings.max_iterations + 1):
-        if _converged(model, lin, target, settings, scales):
+        if converged(model, lin, target, settings, scales):
             return x, level, it - 1, True, lin
         ok = False
         while k < len(shifts):
@@ -200,12 +200,12 @@ def newton_at_volume(model: NewtonModel, x: np.ndarray, level: float, load: Load
             k += 1
         if not ok:
             return x, level, it, False, lin
-    return x, level, settings.max_iterations, _converged(model, lin, target, settings,
+    return x, level, settings.max_iterations, converged(model, lin, target, settings,
                                                           scales), lin
 
 
-def _converged(model, lin, target, settings, scales) -> bool:
-    return (_force_ratio(model, lin, scales) <= settings.force_tolerance
+def converged(model, lin, target, settings, scales) -> bool:
+    return (force_ratio(model, lin, scales) <= settings.force_tolerance
             and abs(lin.volume - target) <= settings.volume_tolerance * scales.volume)
 
 
@@ -253,12 +253,12 @@ def newton_at_level(model: NewtonModel, x: np.ndarray, load: Load,
     """Newton's method under the held level ``load.pressure_level`` (Pa), no volume
     constraint, from positions ``x`` (n, 3) m; the energy form's merit is Pi - p V. Returns
     (x, iterations, converged, last linearisation)."""
-    scales = _Scales(model, load)
+    scales = SolveScales(model, load)
     level = float(load.pressure_level)
     x = np.array(x, dtype=float)
     lin = linearise(model, x, level, load)
     for it in range(1, settings.max_iterations + 1):
-        if _force_ratio(model, lin, scales) <= settings.force_tolerance:
+        if force_ratio(model, lin, scales) <= settings.force_tolerance:
             return x, it - 1, True, lin
         ok = False
         for shift in _shifts(model, scales):
@@ -277,7 +277,7 @@ def newton_at_level(model: NewtonModel, x: np.ndarray, load: Load,
                 break
         if not ok:
             return x, it, False, lin
-    return x, settings.max_iterations, _force_ratio(model, lin, scales) <= \
+    return x, settings.max_iterations, force_ratio(model, lin, scales) <= \
         settings.force_tolerance, lin
 
 
@@ -313,7 +313,7 @@ def fill_path(model: NewtonModel, state: MembraneState, load: Load, targets,
     Returns one (:class:`MembraneState`, :class:`structure.load.Equilibrium`,
     :class:`NewtonReport`) per target; after a target is missed every later one is returned
     not converged."""
-    scales = _Scales(model, load)
+    scales = SolveScales(model, load)
     s = settings
     x = np.array(state.node_position, dtype=float)
     level = float(load.pressure_level)
@@ -367,7 +367,7 @@ def continuation(model: NewtonModel, state: MembraneState, load: Load, targets,
     Returns one (:class:`MembraneState`, :class:`structure.load.Equilibrium`,
     :class:`NewtonReport`) per target; a target the path does not reach is returned not
     converged, and so is every one after it."""
-    scales = _Scales(model, load)
+    scales = SolveScales(model, load)
     s = settings
     x = np.array(state.node_position, dtype=float)
     level = float(load.pressure_level)
@@ -465,15 +465,15 @@ def _shift_below(k: sp.csr_matrix, mass: np.ndarray, g: np.ndarray) -> float:
     return 0.0
 
 
-def _result(model, x, level, lin, converged, report, scales, settings):
-    if settings.eigenvalues and converged:
+def _result(model, x, level, lin, ok, report, scales, settings):
+    if settings.eigenvalues and ok:
         report.eigenvalues = constrained_eigenvalues(model, lin, settings.eigenvalues)
-    equilibrium = Equilibrium(report.iterations, bool(converged), float(level),
-                              float(lin.volume), force_ratio=_force_ratio(model, lin, scales))
+    equilibrium = Equilibrium(report.iterations, bool(ok), float(level),
+                              float(lin.volume), force_ratio=force_ratio(model, lin, scales))
     return MembraneState(x), equilibrium, report
 
 
-def _path_tangent(model, lin: Linearisation, scales: _Scales, previous, direction):
+def _path_tangent(model, lin: Linearisation, scales: SolveScales, previous, direction):
     """The unit tangent (scaled dx (3n,), dp, dV) of the path at a converged linearisation,
     oriented along ``previous`` (or so that the volume moves along ``direction``)."""
     try:
@@ -507,7 +507,7 @@ def _arc_step(model, x0, level0, volume0, tangent, step, load, settings, scales)
             return None
         arc = (float(np.sum(t_x * (x - x0))) + t_p * (level - level0)
                + t_v * (target - volume0) - step)
-        if _converged(model, lin, target, settings, scales) and abs(arc) <= 1e-8 * step:
+        if converged(model, lin, target, settings, scales) and abs(arc) <= 1e-8 * step:
             return x, level, target, it - 1, lin
         try:
             lu = Factorisation(lin.matrix)
