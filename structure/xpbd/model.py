@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Optional
 
 import numpy as np
@@ -39,6 +40,13 @@ class XpbdModel:
     membrane_compliance: np.ndarray
     bending: MidedgeBending
     bending_compliance: np.ndarray
+
+    @cached_property
+    def angle_on_circle(self) -> np.ndarray:
+        """(m, 3) rad zeros: the bending's reference turn for XPBD, which reads each angle
+        change on the circle (:func:`structure.xpbd.substep.sweep`); made once, not per
+        sweep."""
+        return np.zeros_like(self.bending.rest_angle)
 
     @property
     def tension_field(self) -> bool:

@@ -30,7 +30,7 @@ def sweep(model: XpbdModel, x, lam: XpbdMultipliers, settings: XpbdSettings, tar
     if settings.bending:
         b = model.bending
         bending_sweep(x, base.node_inv_mass, b.triangles, b.flap, b.ghost, b.active,
-                      b.rest_angle, np.zeros_like(b.rest_angle), model.bending_compliance,
+                      b.rest_angle, model.angle_on_circle, model.bending_compliance,
                       lam.bending, inv_dt2, apply_only)
     if not apply_only:
         wall_collision(x, base.node_inv_mass, base.radius, 1.0)
