@@ -97,7 +97,8 @@ def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
 
     from fsi.analysis.membrane_fields import FIELD_RULES
     from structure.topology import free_triangles
-    from fsi.procedures.coupled_fill import membrane_settings, static_equilibrium, static_start
+    from fsi.procedures.coupled_fill import membrane_settings, static_start
+    from fsi.setup.static_start import static_equilibrium
 
     rule = FIELD_RULES["xpbd"](setup.model, setup.scene)
     sheet = free_triangles(setup.model.node_fixed, rule.term.triangles)

@@ -22,6 +22,7 @@ from fsi.coupled.adapters import (CENTRE_CELLS, INTERFACE_VELOCITIES, POINTS, PR
                                   FluidParticipant, MembraneSurface)
 from fsi.setup.limits import courant_time_step_limit
 from fsi.setup.models import XPBD_COURANT_FRACTION, hydrostatic_load
+from fsi.setup.static_start import START_SOLVERS
 from fsi.coupled.pressure_maps import PRESSURE_MAPS
 from fsi.setup.motion import MOTIONS
 from fsi.registry import Key, SceneError, Table, is_vec3, one_of, positive, short_number
@@ -88,6 +89,13 @@ START_GRID = Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
                  "(docs/notes/one-fold-state.md)")
 """dynamics.start_grid and slosh.start_grid (:mod:`fsi.setup.carried_start`)."""
 
+START_SOLVER = Key(str, "relaxation", *one_of(sorted(START_SOLVERS)),
+                   "how the static start is found (docs/user-guide/procedures.md, 'The static "
+                   "start'): relaxation (damped XPBD from the manufactured shape) or "
+                   "minimisation (the tension field's fill path from rest, then the full "
+                   "law at the volume; settled under the windows' substeps)")
+"""dynamics.start_solver and slosh.start_solver (:mod:`fsi.setup.static_start`)."""
+
 DYNAMICS = Table({
     "start_fill": Key(float, 0.5, lambda v: 0 < v < 1, "0 < value < 1",
                       "tank fraction V / (4/3 pi R^3) at t = 0, static equilibrium"),
@@ -115,6 +123,7 @@ DYNAMICS = Table({
                             "(0.3: about 1 % stiffness bias, "
                             "docs/models/continuum-membranes.md, 'XPBD')"),
     "start_grid": START_GRID,
+    "start_solver": START_SOLVER,
     "node_damping": Key(float, 0.0, lambda v: 0 <= v <= 10, "0 <= value <= 10 N s/m",
                         "coupling.time_scheme = euler, or quasi-static (its windows with the "
                         "membrane's inertia): c of the membrane substeps' damping of each "

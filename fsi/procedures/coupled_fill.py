@@ -2,8 +2,10 @@
 and the liquid's flow coupled in time.
 
 * Start: the membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction
-  V / (4/3 pi R^3), every frame's ``tank_fraction``) under the hydrostatic
-  model (XPBD relaxation with the same substep as the dynamics, so the start is at rest).
+  V / (4/3 pi R^3), every frame's ``tank_fraction``) under the hydrostatic model, by
+  ``dynamics.start_solver`` (:mod:`fsi.setup.static_start`: XPBD relaxation with the same
+  substep as the dynamics, or the minimisation statics settled under those substeps), so
+  that the start is at rest.
 * Structure: XPBD windows (:func:`structure.xpbd.step`, plain substeps of
   ``dynamics.substep_fraction`` of the explicit limit), the liquid volume held at what the
   port has delivered; the multiplier of that volume is the uniform pressure level
@@ -33,22 +35,21 @@ from fluid.model import Port
 from fluid.solver import FluidSolver
 from fluid.tank import port_stub_volume, sphere_model, tank_grid
 from structure.load import Equilibrium
-from structure.model import MembraneState
 from structure.volume import FillScale, liquid_volume, tank_volume
-from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings, solve_equilibrium
+from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
 
 from fsi.coupled.adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
 from fsi.setup.carried_start import carried_start, carries, xpbd_settle
+from fsi.setup.static_start import START_SOLVERS, static_equilibrium
 from fsi.io.checkpoint import CheckpointDue, write as write_checkpoint
 from fsi.lifecycle import Progress, Run, RunResult, membrane_frame
-from fsi.setup.models import hydrostatic_load
 from fsi.setup.motion import body_acceleration
 from fsi.registry import Procedure, register_procedure
 from fsi.coupled.window_control import END_TOLERANCE, WindowController
 from fsi.procedures.coupled import (COUPLED_TABLES, MAX_WINDOWS, WINDOW_TIME_SCHEMES,
                                     check_coupled_fill, coupling_settings, fluid_convection,
-                                    fluid_participant, membrane_surface, window_settings,
-                                    window_start, window_substep)
+                                    fluid_participant, implicit_window, membrane_surface,
+                                    window_settings, window_start, window_substep)
 
 log = logging.getLogger(__name__)
 
@@ -102,34 +103,23 @@ def membrane_settings(setup) -> XpbdSettings:
 
 def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     """The membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction) under the
-    hydrostatic liquid, by damped XPBD at the dynamics' substep: (state, Equilibrium); from
-    the start of the grid ``dynamics.start_grid`` carried here (:mod:`fsi.setup.carried_start`)
-    when that is set."""
+    hydrostatic liquid by ``dynamics.start_solver`` (:mod:`fsi.setup.static_start`), at rest
+    under the dynamics' XPBD substeps (settled there where the solver's state is not; the
+    generalised-alpha window settles it under its own energies instead): (state,
+    Equilibrium); from the start of the grid ``dynamics.start_grid`` carried here
+    (:mod:`fsi.setup.carried_start`) when that is set."""
     dyn = setup.scene["dynamics"]
     volume = float(FillScale.tank(setup.model.radius).volume(dyn["start_fill"]))
-    state = None
     if carries(setup, dyn["start_grid"]):
         state, _ = carried_start(setup, dyn["start_grid"], volume, lambda coarse: static_start(
             coarse, XpbdModel.from_membrane(coarse.model), membrane_settings(coarse)),
             xpbd_settle(setup, model, settings, volume))
+        return static_equilibrium(setup, model, settings, volume, state)
+    solver = START_SOLVERS[dyn["start_solver"]]
+    state, info = solver.solve(setup, model, settings, volume)
+    if solver.at_rest or implicit_window(setup.scene):
+        return state, info
     return static_equilibrium(setup, model, settings, volume, state)
-
-
-def static_equilibrium(setup, model: XpbdModel, settings: XpbdSettings, volume: float,
-                       state=None):
-    """The membrane's static equilibrium holding the liquid ``volume`` (m^3) under the
-    hydrostatic liquid, by damped XPBD at the substep of ``settings`` from ``state`` (the
-    manufactured shape when None): (state, Equilibrium); a start that did not converge is
-    logged."""
-    if state is None:
-        state = MembraneState(setup.model.node_rest_position)
-    start, info = solve_equilibrium(model, state, hydrostatic_load(setup.liquid, volume),
-                                    settings)
-    if not info.converged:
-        log.warning("static start at liquid volume %.4g m^3 not converged after %d substeps "
-                    "(move ratio %.2e): the run starts from a membrane in motion", volume,
-                    info.steps, info.move_ratio)
-    return start, info
 
 
 def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Coupled:

@@ -49,7 +49,8 @@ from fsi.setup.models import XPBD_DYNAMIC_SWEEPS, hydrostatic_load, statics_subs
 from fsi.slosh.hydroelastic import DiaphragmModes, coupled_modes
 from fsi.slosh.modal import tank_modes
 from fsi.procedures.coupled import FLUID, membrane_surface
-from fsi.procedures.coupled_fill import START_MAX_STEPS, START_TOLERANCE, static_equilibrium
+from fsi.procedures.coupled_fill import START_MAX_STEPS, START_TOLERANCE
+from fsi.setup.static_start import static_equilibrium
 from fsi.procedures.slosh import MIN_DEPTH_CELLS
 
 MODE_SURFACES = {"limp": "the slack diaphragm: the liquid's free surface under gravity",

@@ -43,7 +43,7 @@ from fsi.registry import Key, Procedure, SceneError, Table, one_of, positive, re
 from fsi.slosh.analysis import stokes_layer
 from fsi.slosh.grid_bracket import grid_caveat
 from fsi.slosh.response import contents_response, first_mode
-from fsi.procedures.coupled import COUPLING, FLUID, MOTION, START_GRID
+from fsi.procedures.coupled import COUPLING, FLUID, MOTION, START_GRID, START_SOLVER
 from fsi.procedures.coupled_fill import START_TOLERANCE
 from fsi.procedures.slosh_limp import LimpWindows  # noqa: F401  (registers "limp", the default, first)
 from fsi.procedures.slosh_diaphragm import DiaphragmWindows  # noqa: F401  (registers "diaphragm")
@@ -120,6 +120,7 @@ SLOSH = Table({
                            "(looser: tilted solves stop before they move; "
                            "docs/notes/tension-field.md)"),
     "start_grid": replace(START_GRID, doc="diaphragm: " + START_GRID.doc),
+    "start_solver": replace(START_SOLVER, doc="diaphragm: " + START_SOLVER.doc),
     "end_time": Key(float, 5.0, positive, "> 0 s", "simulated time (s)"),
     "frame_interval": Key(int, 25, lambda v: v >= 1, ">= 1",
                           "windows between recorded surface frames"),

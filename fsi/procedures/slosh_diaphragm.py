@@ -1,8 +1,10 @@
 """``slosh.surface = "diaphragm"``: the elastic diaphragm in a slosh run, membrane and liquid
 coupled in time.
 
-* Start: the membrane's static equilibrium (XPBD, :func:`.coupled_fill.static_equilibrium`)
-  holding the liquid volume of the tank fraction ``slosh.fill`` under the hydrostatic load,
+* Start: the membrane's static equilibrium holding the liquid volume of the tank fraction
+  ``slosh.fill`` under the hydrostatic load, by ``slosh.start_solver``
+  (:mod:`fsi.setup.static_start`): the minimisation statics, or XPBD
+  (:func:`fsi.setup.static_start.static_equilibrium`)
   relaxed from the manufactured shape at the statics' substep (so that the fold state it
   lands in does not depend on the window: at 1 / 2 / 4 ms it stored 3.10 / 3.07 / 3.20 J
   when relaxed at each window's substep, 3.1006 / 3.1009 / 3.1011 J this way, N = 10), or,
@@ -57,7 +59,8 @@ from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocit
                                     fluid_convection, fluid_participant, implicit_window,
                                     membrane_surface, window_settings, window_start,
                                     window_substep)
-from fsi.procedures.coupled_fill import START_MAX_STEPS, static_equilibrium
+from fsi.procedures.coupled_fill import START_MAX_STEPS
+from fsi.setup.static_start import START_SOLVERS, static_equilibrium
 from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
 
@@ -141,7 +144,7 @@ def static_start(setup, window: float) -> StaticStart:
                                     lambda coarse: static_start(coarse, window).as_pair(),
                                     xpbd_settle(setup, xpbd, statics, volume))
     else:
-        state, info = static_equilibrium(setup, xpbd, statics, volume)
+        state, info = START_SOLVERS[table["start_solver"]].solve(setup, xpbd, statics, volume)
     if implicit_window(setup.scene):
         # the implicit window's start is settled under its own energies (window_start)
         return StaticStart(xpbd, settings, volume, state, info)

@@ -151,11 +151,16 @@ def _shell_solve(data, setup, state, load: Load):
     return out, replace(sinfo, steps=info.steps + sinfo.steps)
 
 
+def barrier_pressure(setup) -> float:
+    """rho max(|b|, 1 m/s^2) R (Pa): the pressure the minimisation's wall barrier is
+    calibrated to carry (:func:`structure.minimise.minimisation_model`)."""
+    body = float(np.linalg.norm(setup.liquid.body_acceleration))
+    return setup.liquid.density * max(body, 1.0) * setup.model.radius
+
+
 def _minimisation_prepare(setup):
     xpbd = XpbdModel.from_membrane(setup.model)
-    body = float(np.linalg.norm(setup.liquid.body_acceleration))
-    pressure = setup.liquid.density * max(body, 1.0) * setup.model.radius
-    return minimisation_model(setup.model, xpbd_terms(xpbd), pressure)
+    return minimisation_model(setup.model, xpbd_terms(xpbd), barrier_pressure(setup))
 
 
 def _minimisation_solve(data, setup, state, load: Load):

@@ -33,11 +33,15 @@ RESIDUAL_STIFFNESS = 1e-2
 """The tension field's default residual stiffness e (-)."""
 
 
-def membrane_terms(xpbd_model, residual_stiffness: float = RESIDUAL_STIFFNESS) -> list:
+def membrane_terms(xpbd_model, residual_stiffness: float = RESIDUAL_STIFFNESS,
+                   tension_field: bool | None = None) -> list:
     """The in-plane terms of a :class:`structure.xpbd.model.XpbdModel`: its block law, or,
-    where its material wrinkles by the tension field, the relaxed law with ``residual_stiffness``
-    e in [0, 1) of the block law beside it (module doc)."""
+    where its material wrinkles by the tension field (or ``tension_field`` is True, whatever
+    the material says), the relaxed law with ``residual_stiffness`` e in [0, 1) of the block
+    law beside it (module doc)."""
     term = MembraneTerm.from_xpbd(xpbd_model)
+    if tension_field is not None:
+        term = replace(term, law="tension-field" if tension_field else "block")
     if term.law != "tension-field":
         return [term]
     e = float(residual_stiffness)
@@ -68,10 +72,11 @@ def minimisation_model(base, terms, pressure: float,
 
 
 def xpbd_terms(xpbd_model, residual_stiffness: float = RESIDUAL_STIFFNESS,
-               bending: bool = True) -> list:
+               bending: bool = True, tension_field: bool | None = None) -> list:
     """The internal-energy terms of a :class:`structure.xpbd.model.XpbdModel`: its membrane
-    (:func:`membrane_terms`) and, with ``bending``, its calibrated bending."""
-    terms = membrane_terms(xpbd_model, residual_stiffness)
+    (:func:`membrane_terms`, ``tension_field`` as there) and, with ``bending``, its
+    calibrated bending."""
+    terms = membrane_terms(xpbd_model, residual_stiffness, tension_field)
     if bending:
         terms.append(BendingTerm(xpbd_model.bending))
     return terms

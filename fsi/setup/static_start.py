@@ -1,0 +1,128 @@
+"""How a dynamic run's membrane reaches its static start: the equilibrium holding the start's
+liquid volume under the hydrostatic liquid, before the run's own solver puts it at rest under
+its windows. A registry (scene keys ``dynamics.start_solver`` and ``slosh.start_solver``).
+
+* ``relaxation`` -- damped XPBD substeps from the manufactured shape at the volume, the
+  run's own model and sweeps (:func:`structure.xpbd.solve_equilibrium`): the fold state a
+  sudden fill lands in; its cost grows about as N^3 (16 min at N = 38 for half the tank).
+* ``minimisation`` -- the minimisation statics (:mod:`structure.minimise`): the tension
+  field's fill path (with its residual stiffness) from the rest shape to the volume, then, for
+  a membrane that carries compression, the full law minimised at that volume from there. The
+  tension field's equilibria converge with the grid (its level at half the tank within 0.7 %
+  from N = 76 to 150, docs/notes/minimisation-statics.md), so the start does not depend on
+  the grid's fold snaps along the way; about 20 s at N = 38. The nodes the wall barrier holds
+  (a tenth of its gap inside) are then put on the wall (:func:`on_wall`).
+
+Each takes (setup, XPBD model, XPBD settings, volume m^3) and returns (MembraneState,
+:class:`structure.load.Equilibrium`); a start that did not converge is logged.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, replace
+from typing import Callable
+
+import numpy as np
+
+from structure.minimise import fill_path, inside, minimisation_model, xpbd_terms
+from structure.model import MembraneState
+from structure.xpbd import XpbdModel, XpbdSettings, solve_equilibrium
+
+from fsi.setup.models import barrier_pressure, hydrostatic_load
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class StartSolver:
+    """solve(setup, xpbd_model, settings, volume) -> (MembraneState, Equilibrium);
+    ``at_rest``: whether that state is already at rest under the XPBD ``settings``' substeps
+    (else a run with XPBD windows settles it there)."""
+
+    name: str
+    description: str
+    solve: Callable
+    at_rest: bool
+
+
+START_SOLVERS: dict[str, StartSolver] = {}
+
+
+def register_start(name: str, description: str, at_rest: bool) -> Callable:
+    """Decorator: register ``solve`` as the start solver ``name`` (:class:`StartSolver`)."""
+    def add(solve: Callable) -> Callable:
+        START_SOLVERS[name] = StartSolver(name, description, solve, at_rest)
+        return solve
+    return add
+
+
+def _warn(name: str, volume: float, info) -> None:
+    if not info.converged:
+        log.warning("static start (%s) at liquid volume %.4g m^3 not converged after %d steps "
+                    "(level %.4g Pa): the run starts from a membrane in motion", name, volume,
+                    info.steps, info.pressure_level)
+
+
+def static_equilibrium(setup, model: XpbdModel, settings: XpbdSettings, volume: float,
+                       state=None):
+    """The membrane's static equilibrium holding the liquid ``volume`` (m^3) under the
+    hydrostatic liquid, by damped XPBD at the substep of ``settings`` from ``state`` (the
+    manufactured shape when None): (state, Equilibrium); a start that did not converge is
+    logged."""
+    if state is None:
+        state = MembraneState(setup.model.node_rest_position)
+    start, info = solve_equilibrium(model, state, hydrostatic_load(setup.liquid, volume),
+                                    settings)
+    _warn("XPBD", volume, info)
+    return start, info
+
+
+@register_start("relaxation", "damped XPBD substeps from the manufactured shape", True)
+def relaxed(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
+    """The ``relaxation`` start (module doc)."""
+    return static_equilibrium(setup, model, settings, volume)
+
+
+@register_start("minimisation", "the tension field's fill path from rest by the minimisation "
+                "statics, then the full law at the volume", False)
+def minimised(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
+    """The ``minimisation`` start (module doc); ``settings`` are not used."""
+    load = hydrostatic_load(setup.liquid, volume_target=volume)
+    pressure = barrier_pressure(setup)
+    stages = [True] if model.tension_field else [True, False]
+    state, iterations = None, 0
+    for tension_field in stages:
+        potential, wall = minimisation_model(
+            setup.model, xpbd_terms(model, tension_field=tension_field), pressure)
+        if state is None:
+            state = MembraneState(inside(wall, setup.model.node_rest_position))
+        ((state, info),), report = fill_path(potential, wall, state, load, [volume])
+        log.info("minimisation start (%s): %d iterations in %d volume steps, level %.4g Pa",
+                 "tension field" if tension_field else "full law", report.iterations,
+                 len(report.steps), info.pressure_level)
+        iterations += report.iterations
+        if not info.converged:
+            break
+        load = replace(load, pressure_level=info.pressure_level)
+    info = replace(info, steps=iterations)
+    _warn("minimisation", volume, info)
+    return MembraneState(on_wall(wall, state.node_position)), info
+
+
+def on_wall(wall, x):
+    """``x`` (n, 3) m with every node the barrier holds (closer to the wall than its dhat)
+    put on the wall: the other solvers' walls are a contact at r = R, and the Newton window's
+    penalty holds a node only once it touches (measured at N = 38: from the barrier's
+    state its settle stopped at a force ratio of 0.51 after 30 iterations; from this one it
+    converged in 10, moving no node more than 0.31 mm)."""
+    x = np.array(x, dtype=float)
+    r = np.linalg.norm(x, axis=1)
+    held = (wall.weight > 0) & (r > wall.radius - wall.dhat)
+    x[held] *= (wall.radius / r[held])[:, None]
+    return x
+
+
+def static_start_state(setup, name: str, model: XpbdModel, settings: XpbdSettings,
+                       volume: float):
+    """The start solver ``name``'s equilibrium holding ``volume`` (m^3) (module doc)."""
+    return START_SOLVERS[name].solve(setup, model, settings, volume)
