@@ -79,7 +79,9 @@ class Equilibrium:
     the volume; liquid_volume (m^3); move_ratio : largest free-node move of the last step over
     its length scale (-); strain_error, strain_max : the thesis's in-plane strain measures (-);
     force_ratio : largest free-node residual force over the pressure force scale (-). A
-    measure a model does not take is NaN.
+    measure a model does not take is NaN. limit_points : the snaps a path of volume steps
+    crossed on its way to this state, each a :class:`LimitPoint` (empty where the solver
+    does not follow a path).
     """
 
     steps: int
@@ -90,6 +92,21 @@ class Equilibrium:
     strain_error: float = float("nan")
     strain_max: float = float("nan")
     force_ratio: float = float("nan")
+    limit_points: tuple = ()
+
+
+@dataclass(frozen=True)
+class LimitPoint:
+    """A snap a path of volume steps crossed (its predicted state was not stable on the
+    volume's tangent space, so the branch it came along had ended): the liquid volume where
+    it was crossed (m^3), the level before and after (Pa), and how (``shifted Newton``: the
+    tangent shifted until positive definite there; ``pseudo-inertia``: the undamped sheet's
+    implicit steps)."""
+
+    liquid_volume: float
+    level_before: float
+    level_after: float
+    crossed_by: str
 
 
 @dataclass

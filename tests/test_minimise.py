@@ -219,7 +219,9 @@ def test_settings_out_of_range_are_refused_by_name(key, value):
 
 def test_a_static_sweep_runs_on_the_minimisation(tmp_path):
     """``structure.model = "minimisation"``: a fill and drain sweep (N = 10) with every fill
-    converged (exit 0), each fill's volume held, the levels recorded."""
+    converged (exit 0), each fill's volume held, the levels recorded; the snaps crossed on the
+    way recorded with their tank fraction (in order along the fill, within the sweep) and the
+    level's jump."""
     import h5py
 
     from fsi.cli import main
@@ -234,6 +236,11 @@ def test_a_static_sweep_runs_on_the_minimisation(tmp_path):
         for leg in ("frames", "drain"):
             assert np.all(f[leg]["converged"][()]), leg
             assert np.all(np.isfinite(f[leg]["pressure_level"][()])), leg
+        points = f["limit_points"]
+        events = [e.decode() for e in points["event"][()]]
+        fills = points["tank_fraction"][()][[e.startswith("filling") for e in events]]
+        assert fills.size and np.all(np.diff(fills) > 0) and 0 < fills[0] and fills[-1] <= 0.4
+        assert np.all(points["pressure_level_before"][()] != points["pressure_level"][()])
 
 
 def test_the_pseudo_inertia_crosses_to_an_equilibrium():

@@ -45,6 +45,7 @@ log = logging.getLogger(__name__)
 UNITS = {
     "node_position": "m", "inversion_fraction": "1", "target_fill": "1",
     "liquid_volume": "m^3", "pressure_level": "Pa", "equivalent_height": "m",
+    "pressure_level_before": "Pa",
     "wall_seconds": "s", "relaxation_steps": "1", "converged": "1", "strain_error": "1",
     "strain_max": "1", "time": "s", "node_speed_max": "m/s",
     "node_velocity": "m/s", "interface_pressure": "Pa", "fluid_liquid_volume": "m^3",
@@ -129,6 +130,8 @@ GROUPS = {
     "axisymmetric_slosh": "a shell-of-revolution run's n = 1 slosh mode on the fill's branch, "
                           "one record per slosh fill: lambda1, slosh mass, hinge height, and "
                           "the free surface's at the same fill",
+    "limit_points": "a volume sweep's snaps crossed by the minimisation model, one row each: "
+                    "the leg, the tank fraction, the levels before and after",
     "cycles": "the rainflow cycles of the stress of the most loaded triangles in a run in "
               "time, one row each",
 }

@@ -6,7 +6,9 @@ full-inversion scale: V = V_empty + phi (V_full - V_empty), :mod:`fsi.setup.fill
 then carry their ``inversion_fraction`` beside the tank fraction) under the hydrostatic load
 p = p_ref + rho b . x, the level p_ref its Lagrange multiplier, by the scene's structure model
 (:mod:`fsi.setup.models`); each fill starts from the previous equilibrium (continuation). With
-``sweep.drain`` the same fills are then run back down (group ``drain``).
+``sweep.drain`` the same fills are then run back down (group ``drain``). A model that follows
+the path in volume steps (``minimisation``) records the snaps it crossed (group
+``limit_points``: the tank fraction, the levels before and after).
 """
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ import time
 import numpy as np
 
 from structure.model import MembraneState
+from structure.volume import tank_volume
 
 from fsi.setup.fill import FILL_SCALES, check_first_step, check_reachable, full_inversion
 from fsi.setup.limits import check_time_step, courant_time_step_limit
@@ -63,6 +66,12 @@ def volume_sweep(setup, progress: Progress) -> RunResult:
                             LEGS[group], record["tank_fraction"], setup.structure_model,
                             info.steps)
             run.record(group, record)
+            for point in info.limit_points:
+                run.record("limit_points", dict(
+                    event=np.bytes_(f"{LEGS[group]}: snap crossed by {point.crossed_by}"),
+                    tank_fraction=point.liquid_volume / tank_volume(setup.model.radius),
+                    pressure_level_before=point.level_before,
+                    pressure_level=point.level_after))
             done += 1
             run.progress(done, f"{LEGS[group]}, tank fraction {record['tank_fraction']:.3f}")
     return run.result(groups, **attrs, structure_model=setup.structure_model,

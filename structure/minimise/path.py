@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..load import Equilibrium, Load
+from ..load import Equilibrium, LimitPoint, Load
 from ..model import MembraneState
 from ..newton.system import NewtonModel
 from .model import projectable
@@ -67,6 +67,17 @@ class PathReport:
     def snaps(self) -> list:
         """The steps that crossed an unstable state (events)."""
         return [s for s in self.steps if not s.stable_start or s.how != "newton"]
+
+    def limit_points(self, first: int, level: float) -> tuple:
+        """The :class:`structure.load.LimitPoint` of the snaps from step ``first`` on, the
+        level before that step ``level`` (Pa)."""
+        out = []
+        for step in self.steps[first:]:
+            if not step.stable_start or step.how != "newton":
+                how = "shifted Newton" if step.how == "newton" else step.how
+                out.append(LimitPoint(step.volume, level, step.pressure_level, how))
+            level = step.pressure_level
+        return tuple(out)
 
 
 def _predict(model: NewtonModel, wall, x, level, lin, dv, scales, corrector):
@@ -160,6 +171,7 @@ def fill_path(model: NewtonModel, wall, state: MembraneState, load: Load,
     step = s.volume_step * scales.volume
     results = []
     for target in targets:
+        first, level_before = len(report.steps), level
         while ok and abs(target - volume) > s.volume_tolerance * scales.volume:
             sign = np.sign(target - volume)
             dv = sign * min(step, abs(target - volume))
@@ -195,7 +207,8 @@ def fill_path(model: NewtonModel, wall, state: MembraneState, load: Load,
             else:
                 step = abs(dv)
         eq = Equilibrium(corrector.counters.iterations, bool(ok), float(level),
-                         float(lin.volume), force_ratio=force_ratio(model, lin, scales))
+                         float(lin.volume), force_ratio=force_ratio(model, lin, scales),
+                         limit_points=report.limit_points(first, level_before))
         results.append((MembraneState(x.copy()), eq))
     report.iterations = corrector.counters.iterations
     report.factorisations = corrector.counters.factorisations
