@@ -19,7 +19,7 @@ import numpy as np
 from fluid.interface import Interface, is_closed
 from fluid.sampling import CELL_WEIGHTS
 from fluid.solver import FluidSolver
-from structure.load import Load
+from structure.load import Load, StepInfo
 from structure.model import MembraneState
 from structure.newton.window import alpha_window
 from structure.xpbd import WINDOW_SCHEMES, XpbdDivergence, XpbdModel, XpbdSettings, \
@@ -243,7 +243,7 @@ class MembraneParticipant:
     def __init__(self, model: XpbdModel, state: MembraneState, settings: XpbdSettings,
                  volume: Callable[[float], float], body_acceleration, level: float = 0.0,
                  scheme: str = "substeps", liquid_density: float | None = None,
-                 velocity: str = "membrane"):
+                 velocity: str = "membrane", minimiser=None):
         if scheme not in MEMBRANE_WINDOWS:
             raise ValueError(f"unknown membrane window scheme {scheme!r}; allowed: "
                              f"{sorted(MEMBRANE_WINDOWS)}")
@@ -259,6 +259,10 @@ class MembraneParticipant:
         self.scheme = scheme
         self.liquid_density = liquid_density
         self.velocity = INTERFACE_VELOCITIES[velocity]
+        if minimiser is not None and (scheme != "quasi-static" or liquid_density is None):
+            raise ValueError("a minimiser solves quasi-static windows, with the liquid's "
+                             "density")
+        self.minimiser = minimiser
         self.history: tuple[MembraneState, float] | None = None
         self.sent = self.state.node_position.copy()
         self.dynamic_windows: list[float] = []
@@ -327,6 +331,8 @@ class MembraneParticipant:
         load = Load(self._pressure(received, body), body, volume_target=target,
                     pressure_level=self.level)
         try:
+            if self.minimiser is not None:
+                return self._minimised(start, received, body, target, time, dt)
             return self._quasi_static(start, load, time, dt)
         except XpbdDivergence as err:
             log.info("window from t = %g s: %s; done with the membrane's inertia", time, err)
@@ -344,6 +350,23 @@ class MembraneParticipant:
             relaxed=True, guess=guess)
         self._guess = (time, dt, out[0])
         return out
+
+    def _minimised(self, start: MembraneState, received: np.ndarray, body: np.ndarray,
+                   target: float, time: float, dt: float):
+        """The window's end in equilibrium by the minimisation statics
+        (:mod:`structure.minimise.window`), from the last iteration's end when this window was
+        solved before; :class:`structure.xpbd.XpbdDivergence` where its path stops short."""
+        guess = self._guess[2] if self._guess[:2] == (time, dt) else None
+        x0 = start.node_position
+        state, info, _ = self.minimiser.solve(
+            x0, received, self.sent, body, self.liquid_density, target, self.level,
+            None if guess is None else guess.node_position)
+        if not info.converged:
+            raise XpbdDivergence(f"minimisation window: no equilibrium at {target:.6g} m^3 "
+                                 f"(force ratio {info.force_ratio:.2e})")
+        out = MembraneState(state.node_position, (state.node_position - x0) / dt)
+        self._guess = (time, dt, out)
+        return out, StepInfo(info.steps, info.pressure_level)
 
     def store_checkpoint(self):
         return self.state.copy(), self.level, self.history

@@ -61,9 +61,17 @@ def _check_motion(motion: dict) -> None:
                          f"'table' needs at least two rows [t, ax, ay, az]")
 
 
+QUASI_STATIC_SOLVERS = ("minimisation", "relaxation")
+"""coupling.quasi_static_solver: how a quasi-static window's membrane is solved."""
+
+
 def _check_coupling(c: dict) -> None:
     """The keys of a split window, refused away from their default unless
-    ``on_max_iterations = "split"``."""
+    ``on_max_iterations = "split"``; the quasi-static solver only with quasi-static windows."""
+    if c["quasi_static_solver"] != "relaxation" and c["time_scheme"] != "quasi-static":
+        raise SceneError(f"scene key 'coupling.quasi_static_solver' = "
+                         f"{c['quasi_static_solver']!r} solves the quasi-static windows; with "
+                         f"coupling.time_scheme = {c['time_scheme']!r} allowed: 'relaxation'")
     if c["rho_inf"] != WINDOW_RHO_INF and c["time_scheme"] != "generalised-alpha":
         raise SceneError(f"scene key 'coupling.rho_inf' = {c['rho_inf']!r} sets the "
                          f"generalised-alpha step; with coupling.time_scheme = "
@@ -286,6 +294,12 @@ COUPLING = Table({
                    "spectral radius (1: no numerical dissipation, the trapezoidal rule; 0: "
                    "the highest frequencies removed in one step, what a sheet whose folds "
                    "snap needs; docs/models/continuum-membranes.md)"),
+    "quasi_static_solver": Key(str, "relaxation", *one_of(sorted(QUASI_STATIC_SOLVERS)),
+                               "time_scheme = quasi-static: how the membrane's equilibrium "
+                               "at each window's end is found: relaxation (damped XPBD "
+                               "substeps, the static sweep's solve) or minimisation (the "
+                               "minimisation statics through the folds' snaps, "
+                               "structure/minimise/window.py)"),
     "interface_velocity": Key(str, "membrane", *one_of(sorted(INTERFACE_VELOCITIES)),
                               "the node velocities the liquid gets with the window's end "
                               "positions: membrane (the membrane's own at the window's end, "

@@ -35,11 +35,13 @@ from fluid.model import Port
 from fluid.solver import FluidSolver
 from fluid.tank import port_stub_volume, sphere_model, tank_grid
 from structure.load import Equilibrium
+from structure.minimise.window import QuasiStaticMinimiser
 from structure.volume import FillScale, liquid_volume, tank_volume
 from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
 
 from fsi.coupled.adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
 from fsi.setup.carried_start import carried_start, carries, xpbd_settle
+from fsi.setup.models import barrier_pressure
 from fsi.setup.static_start import START_SOLVERS, static_equilibrium
 from fsi.io.checkpoint import CheckpointDue, write as write_checkpoint
 from fsi.lifecycle import Progress, Run, RunResult, membrane_frame
@@ -142,12 +144,17 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     surface = membrane_surface(setup, model, fluid_model)
     fluid = FluidSolver(fluid_model, surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)
+    minimiser = None
+    if membrane_scheme == "quasi-static" and \
+            scene["coupling"]["quasi_static_solver"] == "minimisation":
+        minimiser = QuasiStaticMinimiser.from_xpbd(model, barrier_pressure(setup))
     membrane = MembraneParticipant(model, start, window_settings(scene, settings),
                                    lambda t: start_volume + flow.delivered(t), body,
                                    info.pressure_level, membrane_scheme,
                                    liquid_density=liquid.density
                                    if membrane_scheme == "quasi-static" else None,
-                                   velocity=scene["coupling"]["interface_velocity"])
+                                   velocity=scene["coupling"]["interface_velocity"],
+                                   minimiser=minimiser)
     return Coupled(FillScale.tank(setup.model.radius), flow, info, start_volume, fluid,
                    membrane, fluid_participant(setup, fluid, surface))
 
