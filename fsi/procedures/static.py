@@ -114,14 +114,6 @@ def _notes_by_column() -> dict:
 def columns_markdown() -> str:
     """The static table's columns (:data:`SWEEP_COLUMNS`) and what they mean
     (:data:`SWEEP_NOTES`), for the outputs page."""
-    points = result.groups.get("limit_points")
-    if points:
-        for k in range(len(points["tank_fraction"])):
-            event = points["event"][k]
-            event = event.decode() if isinstance(event, bytes) else str(event)
-            print(f"  {event} at tank fraction {float(points['tank_fraction'][k]):.4f}: level "
-                  f"{float(points['pressure_level_before'][k]):.1f} -> "
-                  f"{float(points['pressure_level'][k]):.1f} Pa")
     notes = _notes_by_column()
     rows = ["| column | unit | dataset | meaning |", "|---|---|---|---|"]
     for key, head, unit, _ in SWEEP_COLUMNS:
@@ -148,19 +140,22 @@ def report_sweep(result) -> None:
         print(f"[{'filling' if name == 'frames' else 'draining'}]")
         print(format_table([(head, unit) for _, head, unit, _ in columns], rows,
                            [fmt for *_, fmt in columns]))
-    points = result.groups.get("limit_points")
-    if points:
-        for k in range(len(points["tank_fraction"])):
-            event = points["event"][k]
-            event = event.decode() if isinstance(event, bytes) else str(event)
-            print(f"  {event} at tank fraction {float(points['tank_fraction'][k]):.4f}: level "
-                  f"{float(points['pressure_level_before'][k]):.1f} -> "
-                  f"{float(points['pressure_level'][k]):.1f} Pa")
+    _print_limit_points(result.groups.get("limit_points"))
     notes = _notes_by_column()
     shown = [notes[head] for key, head, *_ in SWEEP_COLUMNS
              if any(key in result.groups.get(n, {}) for n in ("frames", "drain"))]
     for note in dict.fromkeys(shown):
         print(f"  {note}")
+
+
+def _print_limit_points(points) -> None:
+    """One line per snap a sweep crossed (group ``limit_points``), None: none recorded."""
+    for k in range(len(points["tank_fraction"]) if points else 0):
+        event = points["event"][k]
+        event = event.decode() if isinstance(event, bytes) else str(event)
+        print(f"  {event} at tank fraction {float(points['tank_fraction'][k]):.4f}: level "
+              f"{float(points['pressure_level_before'][k]):.1f} -> "
+              f"{float(points['pressure_level'][k]):.1f} Pa")
 
 
 def _cell(value, fmt: str):
