@@ -36,34 +36,44 @@ Prints one JSON object (a full run also writes ``docs/data/axisymmetric_vs_3d.js
   amplitude (m), and for the seeded and the unseeded start the same figures as above, with
   ``dominant``, the 3-D deviation's largest harmonic.
 
+``--solvers``: ``newton`` (the rows above) and ``minimisation`` (the minimisation statics,
+:mod:`structure.minimise`, the wall a barrier: a descent that stops at a minimum, where
+Newton stops at any stationary point; its rows under ``minimisation``, the same keys). A
+solver not rerun keeps its rows from the last full run.
+
 ``--smoke``: N = 14 at tank fraction 0.025, and the seeded start on N = 14.
 """
 from __future__ import annotations
 
 import argparse
+import json
 import time
 
 import numpy as np
 import scipy.sparse as sp
 
-from _report import SMOKE_HELP, emit
+from _report import DOCS_DATA, SMOKE_HELP, emit
 from diaphragm_axisymmetric import diaphragm
 from fsi.analysis.compare import eqn_6_1_error
 from fsi.scene import load_scene
 from fsi.setup.build import build
-from fsi.setup.models import hydrostatic_load
+from fsi.setup.models import barrier_pressure, hydrostatic_load
 from structure.axisymmetric import leg, meridian_fields
 from structure.axisymmetric.harmonics import stability
 from structure.axisymmetric.mapping import rest_arc_length, surface_points
 from structure.axisymmetric.solve import equilibrium
 from structure.grid import hemisphere_grid, quad_faces
 from structure.inertia import constrained_negative
+from structure.minimise import fill_path, inside, minimisation_model
+from structure.minimise.newton import evaluate as minimise_evaluate
+from structure.model import MembraneState
 from structure.newton import statics
 from structure.newton.system import NewtonModel
+from structure.tangent.load import WallTerm
 from structure.shell import ShellModel, ShellSettings
 from structure.volume import tank_volume
 
-DOC_FIELDS = ("below_onset", "above_onset", "elements", "seconds")
+DOC_FIELDS = ("below_onset", "above_onset", "minimisation", "elements", "seconds")
 #: meridian elements of the axisymmetric states
 ELEMENTS = 256
 #: 3-D grids and tank fractions below the onset of folding (0.0382), past the fill's snap
@@ -160,14 +170,42 @@ def solve_3d(model, setup, start: np.ndarray, level: float, target: float):
     x, found, iterations, converged, lin = statics.newton_at_volume(
         model, start, level, load, target, statics.NewtonSettings(max_iterations=MAX_ITERATIONS))
     seconds = time.perf_counter() - began
+    return x, float(found), int(iterations), bool(converged), seconds, _negative(model, lin)
+
+
+def minimise_3d(model, setup, start: np.ndarray, level: float, target: float):
+    """The same figures as :func:`solve_3d` by the minimisation statics
+    (:mod:`structure.minimise`): the shell model's membrane and bending with the wall a
+    barrier, from the carried start (its nodes the barrier would not accept moved in) at the
+    held volume, through any snap; ``negative`` of the exact tangent with the barrier's."""
+    terms = [t for t in model.terms if not isinstance(t, WallTerm)]
+    potential, wall = minimisation_model(model.base, terms, barrier_pressure(setup))
+    load = hydrostatic_load(setup.liquid, volume_target=target, pressure_level=level)
+    began = time.perf_counter()
+    ((state, eq),), report = fill_path(potential, wall, MembraneState(inside(wall, start)),
+                                       load, [target])
+    seconds = time.perf_counter() - began
+    x = state.node_position
+    lin = minimise_evaluate(potential, wall, x, eq.pressure_level, load)
+    return (x, float(eq.pressure_level), int(report.iterations), bool(eq.converged), seconds,
+            _negative(potential, lin))
+
+
+SOLVERS = {"newton": solve_3d, "minimisation": minimise_3d}
+"""--solvers: how each 3-D equilibrium is found from the carried start."""
+
+
+def _negative(model, lin) -> int:
+    """Negative eigenvalues of the free tangent on the volume's tangent space."""
     free = np.repeat(model.free, 3)
     stiffness = sp.csr_matrix(lin.matrix)[free][:, free]
-    negative = constrained_negative(stiffness, lin.volume_gradient[model.free].ravel())
-    return x, float(found), int(iterations), bool(converged), seconds, negative
+    return constrained_negative(stiffness, lin.volume_gradient[model.free].ravel())
 
 
-def compare(shell, equilibrium_axi, model, setup, hold: str, fraction: float, seed=None):
-    """One 3-D solve from the carried start (``seed``: (mode, wave number, amplitude))."""
+def compare(shell, equilibrium_axi, model, setup, hold: str, fraction: float, seed=None,
+            solve=solve_3d):
+    """One 3-D solve by ``solve`` (:data:`SOLVERS`) from the carried start (``seed``: (mode,
+    wave number, amplitude))."""
     base = setup.model
     rest, free = base.node_rest_position, ~base.node_fixed
     mode, n, amplitude = seed if seed is not None else (None, 0, 0.0)
@@ -179,7 +217,7 @@ def compare(shell, equilibrium_axi, model, setup, hold: str, fraction: float, se
     carried = float(statics.linearise(model, start, equilibrium_axi.pressure_level, probe,
                                       hessian=False).volume)
     target = carried if hold == "mapped" else literal
-    x, level, iterations, converged, seconds, negative = solve_3d(
+    x, level, iterations, converged, seconds, negative = solve(
         model, setup, start, equilibrium_axi.pressure_level, target)
     samples = meridian_fields(shell, equilibrium_axi.state,
                               np.linspace(0.0, shell.meridian.shape.length, 4001))
@@ -201,22 +239,14 @@ def compare(shell, equilibrium_axi, model, setup, hold: str, fraction: float, se
                 dominant=int(largest[0][0]) if largest else None)
 
 
-def main(argv=None) -> dict:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
-    parser.add_argument("--hold", choices=("mapped", "fraction"), default="mapped",
-                        help="the liquid volume each 3-D solve holds (module doc)")
-    args = parser.parse_args(argv)
-    began = time.perf_counter()
-    grids = SMOKE_GRIDS if args.smoke else GRIDS
-    fractions = SMOKE_FRACTIONS if args.smoke else FRACTIONS
-    shell, load, states = axisymmetric_states(tuple(fractions) + (SEED_FRACTION,))
+def run_solver(solve, shell, load, states, grids, fractions, seed_grids, hold) -> dict:
+    """below_onset and above_onset (module doc) with one solver."""
     below = []
     for n in grids:
         model, setup = three_d_model(n)
         for f in fractions:
-            below.append(dict(grid_size=n, **compare(shell, states[f], model, setup,
-                                                      args.hold, f)))
+            below.append(dict(grid_size=n, **compare(shell, states[f], model, setup, hold, f,
+                                                      solve=solve)))
     above = []
     axi = states[SEED_FRACTION]
     table = stability(shell, axi.state, load.liquid_density * load.gravity,
@@ -226,18 +256,50 @@ def main(argv=None) -> dict:
     mode = mode * np.sign(mode[np.argmax(np.abs(mode))])     # ARPACK's sign is arbitrary
     peak = float(np.abs(mode.reshape(-1, 6)[:, [0, 2, 4]]).max())
     amplitude = SEED_AMPLITUDE / peak
-    for n in (SMOKE_SEED_GRIDS if args.smoke else SEED_GRIDS):
+    for n in seed_grids:
         model, setup = three_d_model(n)
-        seeded = compare(shell, axi, model, setup, args.hold, SEED_FRACTION,
-                         (mode, critical, amplitude))
-        plain = compare(shell, axi, model, setup, args.hold, SEED_FRACTION)
+        seeded = compare(shell, axi, model, setup, hold, SEED_FRACTION,
+                         (mode, critical, amplitude), solve=solve)
+        plain = compare(shell, axi, model, setup, hold, SEED_FRACTION, solve=solve)
         above.append(dict(grid_size=n, critical_wave_number=critical,
                           critical_eigenvalue=float(table.eigenvalue.min()),
                           seed_amplitude=SEED_AMPLITUDE, seeded=seeded, unseeded=plain))
-    out = dict(elements=ELEMENTS, hold=args.hold, below_onset=below, above_onset=above,
-               seconds=round(time.perf_counter() - began, 1))
+    return dict(below_onset=below, above_onset=above)
+
+
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
+    parser.add_argument("--hold", choices=("mapped", "fraction"), default="mapped",
+                        help="the liquid volume each 3-D solve holds (module doc)")
+    parser.add_argument("--solvers", nargs="+", choices=sorted(SOLVERS),
+                        default=sorted(SOLVERS), help="the 3-D solvers to run (module doc)")
+    args = parser.parse_args(argv)
+    began = time.perf_counter()
+    grids = SMOKE_GRIDS if args.smoke else GRIDS
+    fractions = SMOKE_FRACTIONS if args.smoke else FRACTIONS
+    shell, load, states = axisymmetric_states(tuple(fractions) + (SEED_FRACTION,))
+    seed_grids = SMOKE_SEED_GRIDS if args.smoke else SEED_GRIDS
+    results = {name: run_solver(SOLVERS[name], shell, load, states, grids, fractions,
+                                seed_grids, args.hold) for name in args.solvers}
+    out = dict(elements=ELEMENTS, hold=args.hold, **_earlier(args.smoke))
+    if "newton" in results:
+        out.update(results["newton"])
+    if "minimisation" in results:
+        out["minimisation"] = results["minimisation"]
+    out["seconds"] = round(time.perf_counter() - began, 1)
     emit("axisymmetric_vs_3d", out, args.smoke)
     return out
+
+
+def _earlier(smoke: bool) -> dict:
+    """The solvers' rows of the last full run, kept where this one does not rerun them."""
+    path = DOCS_DATA / "axisymmetric_vs_3d.json"
+    if smoke or not path.is_file():
+        return {}
+    earlier = json.loads(path.read_text())
+    return {k: earlier[k] for k in ("below_onset", "above_onset", "minimisation")
+            if k in earlier}
 
 
 if __name__ == "__main__":
