@@ -291,7 +291,9 @@ def fill_attrs(setup, parts: Coupled, run: Run, substep: float, n_windows: int) 
     dyn = setup.scene["dynamics"]
     iterations = [w["coupling_iterations"] for w in run.groups.get("windows", [])]
     return dict(
-        structure_model="xpbd", substep=substep, window=dyn["window"],
+        structure_model="xpbd", start_solver=dyn["start_solver"],
+        quasi_static_solver=setup.scene["coupling"]["quasi_static_solver"],
+        substep=substep, window=dyn["window"],
         windows_done=len(iterations), windows_planned=n_windows,
         mean_coupling_iterations=float(np.mean(iterations)) if iterations else np.nan,
         start_fill=dyn["start_fill"], start_pressure_level=parts.start_info.pressure_level,
