@@ -215,3 +215,35 @@ def fill_path(model: NewtonModel, wall, state: MembraneState, load: Load,
     report.factor_seconds = corrector.counters.factor_seconds
     report.seconds = time.perf_counter() - tic
     return results, report
+
+
+def equilibrium_near(model: NewtonModel, wall, state: MembraneState, load: Load, target: float,
+                     settings: MinimiseSettings = MinimiseSettings()):
+    """The equilibrium at the volume ``target`` (m^3) from a ``state`` near it (a small change
+    of volume and load, as a coupled window's from the last one's end): one corrector straight
+    at ``target`` (continued as the path's), and where that does not converge the path from
+    ``state`` (:func:`fill_path`, which first corrects at the state's own volume). Returns
+    ((:class:`MembraneState`, :class:`structure.load.Equilibrium`), :class:`PathReport`)."""
+    tic = time.perf_counter()
+    scales = Scales(model, load)
+    corrector = Corrector()
+    x = np.array(state.node_position, dtype=float)
+    lin = evaluate(model, wall, x, float(load.pressure_level), load)
+    if not np.isfinite(lin.energy):
+        raise ValueError("the start has a node on or beyond the tank wall: move it inside "
+                         "(structure.minimise.model.inside)")
+    model.follow(x)
+    x, level, _, ok, lin = _correct(model, wall, x, float(load.pressure_level), load, target,
+                                    settings, scales, corrector, projectable(model), lin)
+    if not ok:
+        model.follow(state.node_position)
+        (result,), report = fill_path(model, wall, state, load, [target], settings)
+        report.iterations += corrector.counters.iterations
+        return result, report
+    report = PathReport(iterations=corrector.counters.iterations,
+                        factorisations=corrector.counters.factorisations,
+                        factor_seconds=corrector.counters.factor_seconds,
+                        seconds=time.perf_counter() - tic)
+    eq = Equilibrium(corrector.counters.iterations, True, float(level), float(lin.volume),
+                     force_ratio=force_ratio(model, lin, scales))
+    return (MembraneState(x.copy()), eq), report

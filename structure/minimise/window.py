@@ -8,8 +8,9 @@ dp_i = p_i - rho b . x_s,i, acts as a dead load, the nodal pressure force at the
 
     f_i = dp_i dV/dx_i (x_s),   Pi_window = Pi - sum_i f_i . x_i,
 
-which is conservative, so the window is a minimisation (:mod:`structure.minimise.path`, from
-the window's start to its end volume, through the snaps a fold makes); when the coupling has
+which is conservative, so the window is a minimisation (straight at the end volume from the
+window's start or the last iteration's end, and where that fails along the path of
+:mod:`structure.minimise.path`, through the snaps a fold makes); when the coupling has
 converged the sent shape is the end shape and f is the follower force there; a constant in dp
 is then a level: it moves the multiplier by that constant, not the shape.
 """
@@ -24,7 +25,7 @@ from ..model import MembraneState
 from ..newton.system import NewtonModel
 from .barrier import BarrierWall
 from .model import inside, minimisation_model, xpbd_terms
-from .path import PathReport, fill_path
+from .path import PathReport, equilibrium_near
 
 
 class DeadForce:
@@ -77,8 +78,8 @@ class QuasiStaticMinimiser:
         load = Load(lambda x: liquid_density * (x @ body), body, volume_target=target,
                     pressure_level=level, liquid_density=liquid_density)
         x = inside(self.wall, start if guess is None else guess)
-        ((state, info),), report = fill_path(self.model, self.wall, MembraneState(x), load,
-                                             [target])
+        (state, info), report = equilibrium_near(self.model, self.wall, MembraneState(x), load,
+                                                 target)
         return state, info, report
 
 
