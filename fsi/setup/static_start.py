@@ -121,8 +121,3 @@ def on_wall(wall, x):
     x[held] *= (wall.radius / r[held])[:, None]
     return x
 
-
-def static_start_state(setup, name: str, model: XpbdModel, settings: XpbdSettings,
-                       volume: float):
-    """The start solver ``name``'s equilibrium holding ``volume`` (m^3) (module doc)."""
-    return START_SOLVERS[name].solve(setup, model, settings, volume)
