@@ -229,7 +229,9 @@ class MembraneParticipant:
     thesis fill several times slower).  A window whose equilibrium is not reached in
     QUASI_STATIC_MAX_SUBSTEPS substeps, or one redone after its coupling failed
     (:meth:`with_inertia`), is done with the membrane's inertia instead ('substeps'), every
-    iteration of it; its start time is in :attr:`dynamic_windows`.
+    iteration of it; its start time is in :attr:`dynamic_windows`. ``minimiser``: a
+    :class:`structure.minimise.window.QuasiStaticMinimiser` that finds each quasi-static
+    window's end by the minimisation statics instead (``coupling.quasi_static_solver``).
     """
 
     QUASI_STATIC_MAX_SUBSTEPS = 50_000

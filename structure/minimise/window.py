@@ -25,7 +25,7 @@ from ..model import MembraneState
 from ..newton.system import NewtonModel
 from .barrier import BarrierWall
 from .model import inside, minimisation_model, xpbd_terms
-from .path import PathReport, equilibrium_near
+from .path import equilibrium_near
 
 
 class DeadForce:
@@ -68,7 +68,8 @@ class QuasiStaticMinimiser:
         Pa received at the ``sent`` (n, 3) m positions (module doc), body acceleration
         ``body`` (3,) m/s^2, from ``start`` (n, 3) m, or ``guess`` (n, 3) m where given
         (the last coupling iteration's end: the same equilibrium, from nearer); the level
-        (Pa) the starting guess. Returns (MembraneState, Equilibrium, PathReport)."""
+        (Pa) the starting guess. Returns (MembraneState, Equilibrium,
+        :class:`structure.minimise.path.PathReport`)."""
         body = np.asarray(body, dtype=float)
         _, gradient, _ = self.model.volume.evaluate(np.ascontiguousarray(sent, dtype=float),
                                                     False)
@@ -83,4 +84,4 @@ class QuasiStaticMinimiser:
         return state, info, report
 
 
-__all__ = ["DeadForce", "PathReport", "QuasiStaticMinimiser"]
+__all__ = ["DeadForce", "QuasiStaticMinimiser"]
