@@ -12,6 +12,15 @@ its windows. A registry (scene keys ``dynamics.start_solver`` and ``slosh.start_
   from N = 76 to 150, docs/notes/minimisation-statics.md), so the start does not depend on
   the grid's fold snaps along the way; about 20 s at N = 38. The nodes the wall barrier holds
   (a tenth of its gap inside) are then put on the wall (:func:`on_wall`).
+* ``axisymmetric`` -- the shell of revolution's fill from rest to the volume
+  (:mod:`structure.axisymmetric`, the scene's membrane on :data:`AXISYMMETRIC_ELEMENTS`
+  meridian elements), carried onto the grid (:mod:`structure.axisymmetric.mapping`); where
+  that branch is unstable to a harmonic (past the onset of folding) the carried state is
+  seeded with the critical harmonic's mode, its largest displacement
+  :data:`SEED_AMPLITUDE` (logged with the wave number); then minimised with the scene's law
+  at the volume, as the ``minimisation`` start's last stage. Below the onset the 3-D sheet
+  then starts on the physical branch; past it, on the fold the axisymmetric rung predicts
+  (docs/notes/axisymmetric-onset-vs-3d.md).
 
 Each takes (setup, XPBD model, XPBD settings, volume m^3) and returns (MembraneState,
 :class:`structure.load.Equilibrium`); a start that did not converge is logged.
@@ -26,6 +35,7 @@ import numpy as np
 
 from structure.minimise import fill_path, inside, minimisation_model, xpbd_terms
 from structure.model import MembraneState
+from structure.volume import liquid_volume
 from structure.xpbd import XpbdModel, XpbdSettings, solve_equilibrium
 
 from fsi.setup.models import barrier_pressure, hydrostatic_load
@@ -106,7 +116,77 @@ def minimised(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
         load = replace(load, pressure_level=info.pressure_level)
     info = replace(info, steps=iterations)
     _warn("minimisation", volume, info)
-    return MembraneState(on_wall(wall, state.node_position)), info
+    return _on_wall(setup, wall, state, info)
+
+
+AXISYMMETRIC_ELEMENTS = 128
+"""Meridian elements of the ``axisymmetric`` start's shell of revolution (the onset of folding
+moves by 1e-4 of the tank from 96 to 384, docs/notes/axisymmetric-onset-vs-3d.md)."""
+AXISYMMETRIC_FILL_STEP = 0.005
+"""Tank-fraction spacing of the shell of revolution's fill to the start (-)."""
+SEED_AMPLITUDE = 2e-3
+"""Largest displacement of the critical harmonic's seed past the onset of folding (m)."""
+
+
+def _axisymmetric_fill(setup, volume: float):
+    """(shell, load, equilibrium) of the scene's membrane as a shell of revolution, filled
+    from rest to ``volume`` (m^3); None where its fill stops short."""
+    from fsi.procedures.shell_of_revolution import AXISYMMETRIC, build
+    from structure.axisymmetric import equilibrium, leg
+
+    tables = {name: setup.scene[name] for name in ("tank", "membrane", "structure", "liquid")}
+    tables["axisymmetric"] = {name: key.default for name, key in AXISYMMETRIC.items()}
+    shell, load = build(tables, elements=AXISYMMETRIC_ELEMENTS)
+    fraction = volume / (4.0 / 3.0 * np.pi * setup.model.radius**3)
+    steps = np.union1d(np.arange(0.0, fraction, AXISYMMETRIC_FILL_STEP), [fraction])
+    fill = leg(shell, load, equilibrium(shell, load), steps)
+    last = fill.states[-1]
+    return None if last is None else (shell, load, last.equilibrium)
+
+
+@register_start("axisymmetric", "the shell of revolution's fill carried onto the grid (seeded "
+                "with its critical harmonic past the onset of folding), then minimised",
+                False)
+def carried_axisymmetric(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
+    """The ``axisymmetric`` start (module doc); ``settings`` are not used."""
+    from structure.axisymmetric.harmonics import stability
+    from structure.axisymmetric.mapping import surface_points
+
+    found = _axisymmetric_fill(setup, volume)
+    if found is None:
+        log.warning("the shell of revolution's fill stopped short of %.4g m^3: the "
+                    "minimisation start instead", volume)
+        return minimised(setup, model, settings, volume)
+    shell, load, axi = found
+    table = stability(shell, axi.state, load.liquid_density * load.gravity,
+                      axi.pressure - axi.pressure_level)
+    mode, n, amplitude = None, 0, 0.0
+    if not table.stable:
+        n = int(table.critical)
+        mode = table.modes[list(table.wave_numbers).index(n)]
+        mode = mode * np.sign(mode[np.argmax(np.abs(mode))])
+        amplitude = SEED_AMPLITUDE / float(np.abs(mode.reshape(-1, 6)[:, [0, 2, 4]]).max())
+    base = setup.model
+    x = surface_points(shell, axi.state, base.node_rest_position, mode, n, amplitude)
+    x[base.node_fixed] = base.node_rest_position[base.node_fixed]
+    log.info("axisymmetric start: level %.4g Pa; %s", axi.pressure_level,
+             f"seeded with n = {n}, {SEED_AMPLITUDE * 1e3:g} mm" if n else
+             "stable to every harmonic, not seeded")
+    potential, wall = minimisation_model(base, xpbd_terms(model), barrier_pressure(setup))
+    load3 = hydrostatic_load(setup.liquid, volume_target=volume,
+                             pressure_level=axi.pressure_level)
+    ((state, info),), report = fill_path(potential, wall, MembraneState(inside(wall, x)), load3,
+                                         [volume])
+    info = replace(info, steps=report.iterations)
+    _warn("axisymmetric", volume, info)
+    return _on_wall(setup, wall, state, info)
+
+
+def _on_wall(setup, wall, state, info):
+    """(state, info) with the barrier's nodes put on the wall (:func:`on_wall`), the info's
+    liquid volume the moved sheet's."""
+    x = on_wall(wall, state.node_position)
+    return MembraneState(x), replace(info, liquid_volume=liquid_volume(setup.model, x))
 
 
 def on_wall(wall, x):
@@ -114,7 +194,10 @@ def on_wall(wall, x):
     put on the wall: the other solvers' walls are a contact at r = R, and the Newton window's
     penalty holds a node only once it touches (measured at N = 38: from the barrier's
     state its settle stopped at a force ratio of 0.51 after 30 iterations; from this one it
-    converged in 10, moving no node more than 0.31 mm)."""
+    converged in 10, moving no node more than 0.31 mm). The held volume moves by the
+    contact's area times the barrier's stand-off, a few % of the liquid where most of the
+    sheet lies on the wall (tank fraction 0.025, N = 14: 3-5 %); the run's settle under its
+    own solver holds the volume again."""
     x = np.array(x, dtype=float)
     r = np.linalg.norm(x, axis=1)
     held = (wall.weight > 0) & (r > wall.radius - wall.dhat)
