@@ -86,8 +86,8 @@ def _row(model, fill, x_dyn, level_dyn, x_sta, level_sta, pairing_tolerance,
 
 def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
     """Each of a coupled fill's ``frames`` (of ``setup``'s scene) against a static
-    equilibrium holding its liquid volume, by the coupled fill's static solve (damped XPBD
-    at its substep, :func:`fsi.procedures.coupled_fill.static_equilibrium`): started from
+    equilibrium holding its liquid volume, by the solve of the run's own quasi-static windows
+    (:func:`_static_solve`: damped XPBD at its substep, or the minimisation statics): started from
     the frame's own shape (the equilibrium in the same fold state: what the dynamics alone
     add), or with ``along_path`` from the run's static start, continued frame to frame (the
     static model's own path, whose folds may settle otherwise). Rows as :func:`compare`'s,
@@ -98,7 +98,6 @@ def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
     from fsi.analysis.membrane_fields import FIELD_RULES
     from structure.topology import free_triangles
     from fsi.procedures.coupled_fill import membrane_settings, static_start
-    from fsi.setup.static_start import static_equilibrium
 
     rule = FIELD_RULES["xpbd"](setup.model, setup.scene)
     sheet = free_triangles(setup.model.node_fixed, rule.term.triangles)
@@ -108,17 +107,44 @@ def against_static(setup, frames: dict, along_path: bool = False) -> list[dict]:
 
     model = XpbdModel.from_membrane(setup.model)
     settings = membrane_settings(setup)
+    solve = _static_solve(setup, model, settings)
     state, _ = static_start(setup, model, settings) if along_path else (None, None)
     rows = []
     for x, level in zip(frames["node_position"], frames["pressure_level"]):
         volume = liquid_volume(setup.model, x)
-        state, info = static_equilibrium(setup, model, settings, volume,
-                                         state if along_path else MembraneState(x))
+        state, info = solve(volume, state if along_path else MembraneState(x), level)
         tank = volume / tank_volume(setup.model.radius)
         rows.append(dict(_row(setup.model, tank, x, level, state.node_position,
                               info.pressure_level, PAIRING_TOLERANCE, peak),
                          static_converged=bool(info.converged)))
     return rows
+
+
+def _static_solve(setup, model: XpbdModel, settings):
+    """solve(volume m^3, state, level Pa) -> (state, Equilibrium): the static equilibrium by
+    the solver of the scene's quasi-static windows (``coupling.quasi_static_solver``): the
+    minimisation statics (:mod:`structure.minimise`, the XPBD model's energies, the wall a
+    barrier), or the coupled fill's damped XPBD at its substep
+    (:func:`fsi.setup.static_start.static_equilibrium`) for every other scene."""
+    from structure.minimise import fill_path, inside, minimisation_model, xpbd_terms
+    from structure.model import MembraneState
+
+    from fsi.setup.models import barrier_pressure, hydrostatic_load
+    from fsi.setup.static_start import static_equilibrium
+
+    c = setup.scene["coupling"]
+    if c["time_scheme"] != "quasi-static" or c["quasi_static_solver"] != "minimisation":
+        return lambda volume, state, level: static_equilibrium(setup, model, settings, volume,
+                                                               state)
+    potential, wall = minimisation_model(setup.model, xpbd_terms(model),
+                                         barrier_pressure(setup))
+
+    def solve(volume, state, level):
+        start = MembraneState(inside(wall, state.node_position))
+        ((out, info),), _ = fill_path(potential, wall, start,
+                                      hydrostatic_load(setup.liquid, volume, level), [volume])
+        return out, info
+    return solve
 
 
 START_FILL = 0.5

@@ -42,7 +42,7 @@ from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
 from fsi.coupled.adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
 from fsi.setup.carried_start import carried_start, carries, xpbd_settle
 from fsi.setup.models import barrier_pressure
-from fsi.setup.static_start import START_SOLVERS, static_equilibrium
+from fsi.setup.static_start import START_SOLVERS, on_wall, static_equilibrium
 from fsi.io.checkpoint import CheckpointDue, write as write_checkpoint
 from fsi.lifecycle import Progress, Run, RunResult, membrane_frame
 from fsi.setup.motion import body_acceleration
@@ -107,7 +107,8 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     """The membrane's static equilibrium at ``dynamics.start_fill`` (tank fraction) under the
     hydrostatic liquid by ``dynamics.start_solver`` (:mod:`fsi.setup.static_start`), at rest
     under the dynamics' XPBD substeps (settled there where the solver's state is not; the
-    generalised-alpha window settles it under its own energies instead): (state,
+    generalised-alpha window settles it under its own energies instead, its wall contacts
+    put on the wall first; quasi-static windows by the minimisation take it as it is): (state,
     Equilibrium); from the start of the grid ``dynamics.start_grid`` carried here
     (:mod:`fsi.setup.carried_start`) when that is set."""
     dyn = setup.scene["dynamics"]
@@ -119,9 +120,18 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
         return static_equilibrium(setup, model, settings, volume, state)
     solver = START_SOLVERS[dyn["start_solver"]]
     state, info = solver.solve(setup, model, settings, volume)
-    if solver.at_rest or implicit_window(setup.scene):
+    if solver.at_rest or minimised_windows(setup.scene):
         return state, info
+    if implicit_window(setup.scene):
+        return on_wall(setup, state, info)
     return static_equilibrium(setup, model, settings, volume, state)
+
+
+def minimised_windows(scene) -> bool:
+    """Whether the scene's quasi-static windows are solved by the minimisation statics (a
+    minimisation's start is then at rest under them as it is)."""
+    c = scene["coupling"]
+    return c["time_scheme"] == "quasi-static" and c["quasi_static_solver"] == "minimisation"
 
 
 def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Coupled:

@@ -60,7 +60,7 @@ from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocit
                                     membrane_surface, window_settings, window_start,
                                     window_substep)
 from fsi.procedures.coupled_fill import START_MAX_STEPS
-from fsi.setup.static_start import START_SOLVERS, static_equilibrium
+from fsi.setup.static_start import START_SOLVERS, on_wall, static_equilibrium
 from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
 
@@ -144,7 +144,10 @@ def static_start(setup, window: float) -> StaticStart:
                                     lambda coarse: static_start(coarse, window).as_pair(),
                                     xpbd_settle(setup, xpbd, statics, volume))
     else:
-        state, info = START_SOLVERS[table["start_solver"]].solve(setup, xpbd, statics, volume)
+        solver = START_SOLVERS[table["start_solver"]]
+        state, info = solver.solve(setup, xpbd, statics, volume)
+        if not solver.at_rest and implicit_window(setup.scene):
+            state, info = on_wall(setup, state, info)
     if implicit_window(setup.scene):
         # the implicit window's start is settled under its own energies (window_start)
         return StaticStart(xpbd, settings, volume, state, info)

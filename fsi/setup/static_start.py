@@ -10,8 +10,9 @@ its windows. A registry (scene keys ``dynamics.start_solver`` and ``slosh.start_
   a membrane that carries compression, the full law minimised at that volume from there. The
   tension field's equilibria converge with the grid (its level at half the tank within 0.7 %
   from N = 76 to 150, docs/notes/minimisation-statics.md), so the start does not depend on
-  the grid's fold snaps along the way; about 20 s at N = 38. The nodes the wall barrier holds
-  (a tenth of its gap inside) are then put on the wall (:func:`on_wall`).
+  the grid's fold snaps along the way; about 20 s at N = 38. For the Newton window the nodes
+  the wall barrier holds (a tenth of its gap inside) are then put on the wall
+  (:func:`on_wall`).
 * ``axisymmetric`` -- the shell of revolution's fill from rest to the volume
   (:mod:`structure.axisymmetric`, the scene's membrane on :data:`AXISYMMETRIC_ELEMENTS`
   meridian elements), carried onto the grid (:mod:`structure.axisymmetric.mapping`); where
@@ -33,7 +34,7 @@ from typing import Callable
 
 import numpy as np
 
-from structure.minimise import fill_path, inside, minimisation_model, xpbd_terms
+from structure.minimise import DHAT, fill_path, inside, minimisation_model, xpbd_terms
 from structure.model import MembraneState
 from structure.volume import liquid_volume
 from structure.xpbd import XpbdModel, XpbdSettings, solve_equilibrium
@@ -116,7 +117,7 @@ def minimised(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
         load = replace(load, pressure_level=info.pressure_level)
     info = replace(info, steps=iterations)
     _warn("minimisation", volume, info)
-    return _on_wall(setup, wall, state, info)
+    return MembraneState(state.node_position), info
 
 
 AXISYMMETRIC_ELEMENTS = 128
@@ -179,28 +180,21 @@ def carried_axisymmetric(setup, model: XpbdModel, settings: XpbdSettings, volume
                                          [volume])
     info = replace(info, steps=report.iterations)
     _warn("axisymmetric", volume, info)
-    return _on_wall(setup, wall, state, info)
+    return MembraneState(state.node_position), info
 
 
-def _on_wall(setup, wall, state, info):
-    """(state, info) with the barrier's nodes put on the wall (:func:`on_wall`), the info's
-    liquid volume the moved sheet's."""
-    x = on_wall(wall, state.node_position)
-    return MembraneState(x), replace(info, liquid_volume=liquid_volume(setup.model, x))
-
-
-def on_wall(wall, x):
-    """``x`` (n, 3) m with every node the barrier holds (closer to the wall than its dhat)
-    put on the wall: the other solvers' walls are a contact at r = R, and the Newton window's
-    penalty holds a node only once it touches (measured at N = 38: from the barrier's
-    state its settle stopped at a force ratio of 0.51 after 30 iterations; from this one it
-    converged in 10, moving no node more than 0.31 mm). The held volume moves by the
-    contact's area times the barrier's stand-off, a few % of the liquid where most of the
-    sheet lies on the wall (tank fraction 0.025, N = 14: 3-5 %); the run's settle under its
-    own solver holds the volume again."""
-    x = np.array(x, dtype=float)
+def on_wall(setup, state, info, gap: float = DHAT):
+    """(state, info) with every free node closer to the wall than ``gap`` (m; the barrier's
+    dhat) put on it, the info's liquid volume the moved sheet's: a minimisation's start made
+    ready for the Newton window, whose wall is a contact at r = R that holds a node only once
+    it touches (measured at N = 38: from the barrier's state, a tenth of dhat inside, its
+    settle stopped at a force ratio of 0.51 after 30 iterations; from this one it converged in
+    10, moving no node more than 0.31 mm). The held volume moves by the contact's area times
+    the barrier's stand-off, a few % of the liquid where most of the sheet lies on the wall
+    (tank fraction 0.025, N = 14: 3-5 %); the Newton settle holds the volume again."""
+    base = setup.model
+    x = np.array(state.node_position, dtype=float)
     r = np.linalg.norm(x, axis=1)
-    held = (wall.weight > 0) & (r > wall.radius - wall.dhat)
-    x[held] *= (wall.radius / r[held])[:, None]
-    return x
-
+    held = ~base.node_fixed & (r > base.radius - gap)
+    x[held] *= (base.radius / r[held])[:, None]
+    return MembraneState(x), replace(info, liquid_volume=liquid_volume(base, x))
