@@ -52,7 +52,7 @@ def folding_onset(scene):
     """The onset of folding (:class:`structure.axisymmetric.folding.Onset`) of the scene's
     diaphragm filled from rest (module doc), or None where none is met by the last of
     :data:`FRACTIONS`."""
-    from fsi.procedures.shell_of_revolution import build
+    from fsi.setup.shell_of_revolution import build
     from structure.axisymmetric.study import fill_onset
 
     shell, load = build(scene, ELEMENTS, wrinkling="none")

@@ -132,7 +132,7 @@ SEED_AMPLITUDE = 2e-3
 def _axisymmetric_fill(setup, volume: float):
     """(shell, load, equilibrium) of the scene's membrane as a shell of revolution, filled
     from rest to ``volume`` (m^3); None where its fill stops short."""
-    from fsi.procedures.shell_of_revolution import AXISYMMETRIC, build
+    from fsi.setup.shell_of_revolution import AXISYMMETRIC, build
     from structure.axisymmetric import equilibrium, leg
 
     tables = {name: setup.scene[name] for name in ("tank", "membrane", "structure", "liquid")}
