@@ -145,3 +145,12 @@ def test_the_axisymmetric_start_past_the_onset_is_seeded_with_the_critical_harmo
         _, _, (_, info) = _axisymmetric_start(14, 0.05)
     assert info.converged
     assert "seeded with n = 10, 2 mm" in caplog.text
+
+
+def test_the_axisymmetric_start_is_refused_for_a_flat_sheet():
+    """The shell of revolution carried is a hemisphere's: a disc scene's axisymmetric start is
+    refused by its key, naming what is allowed."""
+    with pytest.raises(SceneError, match=r"slosh\.start_solver.*membrane\.shape = 'disc'.*"
+                                         r"allowed: 'minimisation', 'relaxation'"):
+        build(load_scene("slosh-diaphragm").with_keys(
+            {"membrane": {"shape": "disc"}, "slosh": {"start_solver": "axisymmetric"}}))

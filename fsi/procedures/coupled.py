@@ -494,13 +494,14 @@ def check_port(setup) -> None:
 def check_coupled_fill(setup) -> None:
     """A coupled fill's scene before it runs: the port (:func:`check_port`), the interface
     velocity and the node damping against the window's time scheme
-    (:func:`check_interface_velocity`, :func:`check_node_damping`) and the start grid
-    (:func:`check_start_grid`)."""
+    (:func:`check_interface_velocity`, :func:`check_node_damping`), the start grid and the
+    start solver (:func:`check_start_grid`, :func:`check_start_solver`)."""
     check_port(setup)
     check_interface_velocity(setup.scene)
     check_level_plane(setup.scene, "under the membrane of a coupled fill")
     check_node_damping(setup.scene)
     check_start_grid(setup.scene, "dynamics")
+    check_start_solver(setup.scene, "dynamics")
 
 
 def check_level_plane(scene, where: str) -> None:
@@ -511,6 +512,16 @@ def check_level_plane(scene, where: str) -> None:
         raise SceneError(f"scene key 'fluid.level_plane' = {value!r} moves the grid under a "
                          f"free surface (slosh.surface = 'limp' or 'linear'); {where} allowed: "
                          f"'anywhere'")
+
+
+def check_start_solver(scene, table: str) -> None:
+    """``<table>.start_solver = "axisymmetric"`` carries a shell of revolution of the
+    hemisphere: refused for another ``membrane.shape``."""
+    solver, shape = scene[table]["start_solver"], scene["membrane"]["shape"]
+    if solver == "axisymmetric" and shape != "hemisphere":
+        raise SceneError(f"scene key '{table}.start_solver' = 'axisymmetric' carries the "
+                         f"shell of revolution of a hemisphere; with membrane.shape = "
+                         f"{shape!r} allowed: 'minimisation', 'relaxation'")
 
 
 def check_start_grid(scene, table: str) -> None:

@@ -55,7 +55,8 @@ from fsi.slosh.lateral_compliance import (DEFAULT_TILT, Compliance, contents_cen
 from fsi.lifecycle import Run
 from fsi.setup.models import hydrostatic_load, statics_substep
 from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocity,
-                                    check_level_plane, check_start_grid, coupling_settings,
+                                    check_level_plane, check_start_grid, check_start_solver,
+                                    coupling_settings,
                                     fluid_convection, fluid_participant, implicit_window,
                                     membrane_surface, window_settings, window_start,
                                     window_substep)
@@ -272,6 +273,7 @@ class DiaphragmWindows(SurfaceWindows):
         check_interface_velocity(scene)
         check_level_plane(scene, "with slosh.surface = 'diaphragm'")
         check_start_grid(scene, "slosh")
+        check_start_solver(scene, "slosh")
 
     def step(self, run: Run) -> None:
         membrane, window = self.parts.membrane, self.window

@@ -36,7 +36,7 @@ import numpy as np
 
 from structure.minimise import DHAT, fill_path, inside, minimisation_model, xpbd_terms
 from structure.model import MembraneState
-from structure.volume import liquid_volume
+from structure.volume import liquid_volume, tank_volume
 from structure.xpbd import XpbdModel, XpbdSettings, solve_equilibrium
 
 from fsi.setup.models import barrier_pressure, hydrostatic_load
@@ -138,7 +138,7 @@ def _axisymmetric_fill(setup, volume: float):
     tables = {name: setup.scene[name] for name in ("tank", "membrane", "structure", "liquid")}
     tables["axisymmetric"] = {name: key.default for name, key in AXISYMMETRIC.items()}
     shell, load = build(tables, elements=AXISYMMETRIC_ELEMENTS)
-    fraction = volume / (4.0 / 3.0 * np.pi * setup.model.radius**3)
+    fraction = volume / tank_volume(setup.model.radius)
     steps = np.union1d(np.arange(0.0, fraction, AXISYMMETRIC_FILL_STEP), [fraction])
     fill = leg(shell, load, equilibrium(shell, load), steps)
     last = fill.states[-1]
