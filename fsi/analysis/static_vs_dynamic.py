@@ -129,11 +129,11 @@ def _static_solve(setup, model: XpbdModel, settings):
     from structure.minimise import fill_path, inside, minimisation_model, xpbd_terms
     from structure.model import MembraneState
 
+    from fsi.procedures.coupled_fill import minimised_windows
     from fsi.setup.models import barrier_pressure, hydrostatic_load
     from fsi.setup.static_start import static_equilibrium
 
-    c = setup.scene["coupling"]
-    if c["time_scheme"] != "quasi-static" or c["quasi_static_solver"] != "minimisation":
+    if not minimised_windows(setup.scene):
         return lambda volume, state, level: static_equilibrium(setup, model, settings, volume,
                                                                state)
     potential, wall = minimisation_model(setup.model, xpbd_terms(model),

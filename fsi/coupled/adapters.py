@@ -330,11 +330,11 @@ class MembraneParticipant:
                                           Load(received, body, volume_target=target,
                                                pressure_level=self.level), dt,
                                           self.settings, self.history)
-        load = Load(self._pressure(received, body), body, volume_target=target,
-                    pressure_level=self.level)
         try:
             if self.minimiser is not None:
                 return self._minimised(start, received, body, target, time, dt)
+            load = Load(self._pressure(received, body), body, volume_target=target,
+                        pressure_level=self.level)
             return self._quasi_static(start, load, time, dt)
         except XpbdDivergence as err:
             log.info("window from t = %g s: %s; done with the membrane's inertia", time, err)

@@ -154,10 +154,8 @@ def assemble(setup, model: XpbdModel, settings: XpbdSettings, start, info) -> Co
     surface = membrane_surface(setup, model, fluid_model)
     fluid = FluidSolver(fluid_model, surface.of(start))
     start_volume = liquid_volume(setup.model, start.node_position)
-    minimiser = None
-    if membrane_scheme == "quasi-static" and \
-            scene["coupling"]["quasi_static_solver"] == "minimisation":
-        minimiser = QuasiStaticMinimiser.from_xpbd(model, barrier_pressure(setup))
+    minimiser = (QuasiStaticMinimiser.from_xpbd(model, barrier_pressure(setup))
+                 if minimised_windows(scene) else None)
     membrane = MembraneParticipant(model, start, window_settings(scene, settings),
                                    lambda t: start_volume + flow.delivered(t), body,
                                    info.pressure_level, membrane_scheme,

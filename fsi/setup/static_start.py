@@ -98,26 +98,36 @@ def relaxed(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
                 "statics, then the full law at the volume", False)
 def minimised(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
     """The ``minimisation`` start (module doc); ``settings`` are not used."""
-    load = hydrostatic_load(setup.liquid, volume_target=volume)
-    pressure = barrier_pressure(setup)
     stages = [True] if model.tension_field else [True, False]
-    state, iterations = None, 0
+    x, level, iterations, move_in = setup.model.node_rest_position, 0.0, 0, True
     for tension_field in stages:
-        potential, wall = minimisation_model(
-            setup.model, xpbd_terms(model, tension_field=tension_field), pressure)
-        if state is None:
-            state = MembraneState(inside(wall, setup.model.node_rest_position))
-        ((state, info),), report = fill_path(potential, wall, state, load, [volume])
-        log.info("minimisation start (%s): %d iterations in %d volume steps, level %.4g Pa",
-                 "tension field" if tension_field else "full law", report.iterations,
-                 len(report.steps), info.pressure_level)
-        iterations += report.iterations
+        state, info, its = _minimum(setup, model, x, level, volume, tension_field, move_in)
+        iterations += its
         if not info.converged:
             break
-        load = replace(load, pressure_level=info.pressure_level)
+        x, level, move_in = state.node_position, info.pressure_level, False
     info = replace(info, steps=iterations)
     _warn("minimisation", volume, info)
-    return MembraneState(state.node_position), info
+    return state, info
+
+
+def _minimum(setup, model: XpbdModel, x, level: float, volume: float,
+             tension_field: bool | None = None, move_in: bool = True):
+    """(state, Equilibrium, Newton iterations): the minimisation statics of ``model``'s
+    energies (the tension field's or the full law's by ``tension_field``, the model's own by
+    None) from ``x`` (n, 3) m (with ``move_in``, its nodes moved inside the barrier first:
+    :func:`structure.minimise.inside`) to ``volume`` (m^3), the level ``level`` (Pa) the
+    guess."""
+    potential, wall = minimisation_model(setup.model,
+                                         xpbd_terms(model, tension_field=tension_field),
+                                         barrier_pressure(setup))
+    load = hydrostatic_load(setup.liquid, volume_target=volume, pressure_level=level)
+    start = MembraneState(inside(wall, x) if move_in else x)
+    ((state, info),), report = fill_path(potential, wall, start, load, [volume])
+    law = {True: "tension field", False: "full law", None: "its law"}[tension_field]
+    log.info("minimisation (%s): %d iterations in %d volume steps, level %.4g Pa", law,
+             report.iterations, len(report.steps), info.pressure_level)
+    return MembraneState(state.node_position), info, report.iterations
 
 
 AXISYMMETRIC_ELEMENTS = 128
@@ -173,14 +183,10 @@ def carried_axisymmetric(setup, model: XpbdModel, settings: XpbdSettings, volume
     log.info("axisymmetric start: level %.4g Pa; %s", axi.pressure_level,
              f"seeded with n = {n}, {SEED_AMPLITUDE * 1e3:g} mm" if n else
              "stable to every harmonic, not seeded")
-    potential, wall = minimisation_model(base, xpbd_terms(model), barrier_pressure(setup))
-    load3 = hydrostatic_load(setup.liquid, volume_target=volume,
-                             pressure_level=axi.pressure_level)
-    ((state, info),), report = fill_path(potential, wall, MembraneState(inside(wall, x)), load3,
-                                         [volume])
-    info = replace(info, steps=report.iterations)
+    state, info, iterations = _minimum(setup, model, x, axi.pressure_level, volume)
+    info = replace(info, steps=iterations)
     _warn("axisymmetric", volume, info)
-    return MembraneState(state.node_position), info
+    return state, info
 
 
 def on_wall(setup, state, info, gap: float = DHAT):

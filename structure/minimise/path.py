@@ -139,6 +139,19 @@ def _cross(model, wall, x, level, load, target, settings, scales, corrector, pro
     return x, level, total, False, lin
 
 
+def _begin(model: NewtonModel, wall, state: MembraneState, load: Load):
+    """(scales, corrector, x (n, 3) m, level Pa, linearisation) at ``state``, the bending's
+    hinges following it; refused where a node is on or beyond the wall."""
+    x = np.array(state.node_position, dtype=float)
+    level = float(load.pressure_level)
+    lin = evaluate(model, wall, x, level, load)
+    if not np.isfinite(lin.energy):
+        raise ValueError("the start has a node on or beyond the tank wall: move it inside "
+                         "(structure.minimise.model.inside)")
+    model.follow(x)
+    return Scales(model, load), Corrector(), x, level, lin
+
+
 def fill_path(model: NewtonModel, wall, state: MembraneState, load: Load,
               targets, settings: MinimiseSettings = MinimiseSettings(), progress=None):
     """Equilibria at the volumes ``targets`` (m^3, in order) from ``state`` (its nodes inside
@@ -150,16 +163,8 @@ def fill_path(model: NewtonModel, wall, state: MembraneState, load: Load,
     ``progress``: called with each accepted step's volume (m^3)."""
     tic = time.perf_counter()
     s = settings
-    scales = Scales(model, load)
-    corrector = Corrector()
+    scales, corrector, x, level, lin = _begin(model, wall, state, load)
     report = PathReport()
-    x = np.array(state.node_position, dtype=float)
-    level = float(load.pressure_level)
-    lin = evaluate(model, wall, x, level, load)
-    if not np.isfinite(lin.energy):
-        raise ValueError("the start has a node on or beyond the tank wall: move it inside "
-                         "(structure.minimise.model.inside)")
-    model.follow(x)
     projected = projectable(model)
     start = lin.volume
     x, level, its, ok, lin = _correct(model, wall, x, level, load, start, s, scales,
@@ -225,16 +230,9 @@ def equilibrium_near(model: NewtonModel, wall, state: MembraneState, load: Load,
     ``state`` (:func:`fill_path`, which first corrects at the state's own volume). Returns
     ((:class:`MembraneState`, :class:`structure.load.Equilibrium`), :class:`PathReport`)."""
     tic = time.perf_counter()
-    scales = Scales(model, load)
-    corrector = Corrector()
-    x = np.array(state.node_position, dtype=float)
-    lin = evaluate(model, wall, x, float(load.pressure_level), load)
-    if not np.isfinite(lin.energy):
-        raise ValueError("the start has a node on or beyond the tank wall: move it inside "
-                         "(structure.minimise.model.inside)")
-    model.follow(x)
-    x, level, _, ok, lin = _correct(model, wall, x, float(load.pressure_level), load, target,
-                                    settings, scales, corrector, projectable(model), lin)
+    scales, corrector, x, level, lin = _begin(model, wall, state, load)
+    x, level, _, ok, lin = _correct(model, wall, x, level, load, target, settings, scales,
+                                    corrector, projectable(model), lin)
     if not ok:
         model.follow(state.node_position)
         (result,), report = fill_path(model, wall, state, load, [target], settings)
