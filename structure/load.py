@@ -81,7 +81,8 @@ class Equilibrium:
     force_ratio : largest free-node residual force over the pressure force scale (-). A
     measure a model does not take is NaN. limit_points : the snaps a path of volume steps
     crossed on its way to this state, each a :class:`LimitPoint` (empty where the solver
-    does not follow a path).
+    does not follow a path). seed : the imperfection the solve started from, (circumferential
+    wave number, largest displacement m); empty where it started unseeded.
     """
 
     steps: int
@@ -93,6 +94,7 @@ class Equilibrium:
     strain_max: float = float("nan")
     force_ratio: float = float("nan")
     limit_points: tuple = ()
+    seed: tuple = ()
 
 
 @dataclass(frozen=True)

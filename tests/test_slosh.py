@@ -287,6 +287,8 @@ def test_diaphragm_at_rest_stays_at_rest():
     assert volume[1] == pytest.approx(volume[0], rel=1e-5)
     assert np.allclose(volume[1:], volume[1], rtol=1e-8)
     assert a["tank_fraction"] == pytest.approx(0.5, rel=1e-4)
+    # the start's solver and seed (relaxation: none) are the result's facts
+    assert a["start_solver"] == "relaxation" and a["start_seed_wave_number"] == 0
     annotate(setup, result)
     assert result.attrs["dynamic_amplification"] == pytest.approx(1.0, abs=0.01)
     assert result.attrs["peak_stress_time"] in result.groups["frames"]["time"]

@@ -9,7 +9,8 @@ import pytest
 
 from fsi.scene import SceneError, load_scene
 from fsi.setup.build import build
-from fsi.setup.static_start import START_SOLVERS, static_equilibrium
+from fsi.setup.static_start import (SEED_AMPLITUDE, START_SOLVERS, seed_attrs,
+                                    static_equilibrium)
 from structure.minimise import fill_path, inside, minimisation_model, xpbd_terms
 from structure.model import MembraneState
 from structure.volume import liquid_volume, tank_volume
@@ -69,12 +70,20 @@ def test_xpbd_settles_the_minimisation_start_in_its_fold_state():
 
 
 def test_a_coupled_fill_starts_at_rest_under_its_substeps_from_either_solver():
-    """dynamics.start_solver: the state returned is XPBD's rest at the dynamics' substep."""
+    """dynamics.start_solver: the state returned is XPBD's rest at the dynamics' substep;
+    the axisymmetric start's seed (half the tank is past the onset) is kept through the
+    settle, for the result's attributes."""
     for name in START_SOLVERS:
         setup = _setup(start_solver=name)
         xpbd = XpbdModel.from_membrane(setup.model)
         state, info = static_start(setup, xpbd, membrane_settings(setup))
         assert info.converged, name
+        seeded = seed_attrs(info)
+        if name == "axisymmetric":
+            assert seeded["start_seed_wave_number"] > 0
+            assert seeded["start_seed_amplitude"] == SEED_AMPLITUDE
+        else:
+            assert seeded == dict(start_seed_wave_number=0, start_seed_amplitude=0.0)
         assert liquid_volume(setup.model, state.node_position) == pytest.approx(
             0.5 * tank_volume(setup.model.radius), rel=1e-3)
 
@@ -125,7 +134,7 @@ def test_the_axisymmetric_start_below_the_onset_stays_on_the_shell_of_revolution
 
     with caplog.at_level(logging.INFO, logger="fsi.setup.static_start"):
         setup, volume, (state, info) = _axisymmetric_start(26, 0.025)
-    assert info.converged
+    assert info.converged and info.seed == ()
     assert "not seeded" in caplog.text
     shell, _, axi = _axisymmetric_fill(setup, volume)
     samples = meridian_fields(shell, axi.state, np.linspace(0, shell.meridian.shape.length, 2001))
@@ -145,6 +154,7 @@ def test_the_axisymmetric_start_past_the_onset_is_seeded_with_the_critical_harmo
         _, _, (_, info) = _axisymmetric_start(14, 0.05)
     assert info.converged
     assert "seeded with n = 10, 2 mm" in caplog.text
+    assert info.seed == (10, SEED_AMPLITUDE)
 
 
 def test_the_axisymmetric_start_is_refused_for_a_flat_sheet():

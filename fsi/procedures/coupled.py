@@ -4,6 +4,7 @@ of a window, and the port's setup check."""
 from __future__ import annotations
 
 import logging
+from dataclasses import replace
 
 import numpy as np
 
@@ -437,7 +438,7 @@ def window_start(setup, scene, model, state, info, volume: float):
                     "force ratio %.2e): the run starts from a membrane in motion",
                     equilibrium.force_ratio)
         return state, info
-    return settled_state, equilibrium
+    return settled_state, replace(equilibrium, seed=info.seed)
 
 
 def window_substep(setup, window: float, fraction: float) -> float:

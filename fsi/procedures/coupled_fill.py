@@ -26,7 +26,7 @@ Groups written: ``frames`` (every ``dynamics.frame_interval`` windows and t = 0)
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -42,7 +42,7 @@ from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
 from fsi.coupled.adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
 from fsi.setup.carried_start import carried_start, carries, xpbd_settle
 from fsi.setup.models import barrier_pressure
-from fsi.setup.static_start import START_SOLVERS, on_wall, static_equilibrium
+from fsi.setup.static_start import START_SOLVERS, on_wall, seed_attrs, static_equilibrium
 from fsi.io.checkpoint import CheckpointDue, write as write_checkpoint
 from fsi.lifecycle import Progress, Run, RunResult, membrane_frame
 from fsi.setup.motion import body_acceleration
@@ -124,7 +124,8 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
         return state, info
     if implicit_window(setup.scene):
         return on_wall(setup, state, info)
-    return static_equilibrium(setup, model, settings, volume, state)
+    settled, at_rest = static_equilibrium(setup, model, settings, volume, state)
+    return settled, replace(at_rest, seed=info.seed)
 
 
 def minimised_windows(scene) -> bool:
@@ -300,6 +301,7 @@ def fill_attrs(setup, parts: Coupled, run: Run, substep: float, n_windows: int) 
     iterations = [w["coupling_iterations"] for w in run.groups.get("windows", [])]
     return dict(
         structure_model="xpbd", start_solver=dyn["start_solver"],
+        **seed_attrs(parts.start_info),
         quasi_static_solver=setup.scene["coupling"]["quasi_static_solver"],
         substep=substep, window=dyn["window"],
         windows_done=len(iterations), windows_planned=n_windows,

@@ -146,7 +146,8 @@ def slosh(setup, progress: Progress) -> RunResult:
     start = _start(setup)
     body = body_acceleration(setup.liquid.body_acceleration, scene["motion"])
     acceleration = tank_acceleration(scene["motion"])
-    surface_data, contents = run_windows(setup, run, start, body, window, n_windows)
+    surface_data, contents, start_facts = run_windows(setup, run, start, body, window,
+                                                      n_windows)
     volume, mass = contents.volume, contents.mass
     windows = stack(run.groups.pop("windows"))
     time = windows["time"]
@@ -173,7 +174,7 @@ def slosh(setup, progress: Progress) -> RunResult:
         analysis_start=table["analysis_start"],
         peak_force_x=float(np.max(np.abs(windows["force"][:, 0]))),
         peak_moment_y=float(np.max(np.abs(windows["moment"][:, 1]))),
-        wall_seconds=run.elapsed())
+        wall_seconds=run.elapsed(), **start_facts)
     if "converged" in windows:
         attrs.update(structure_model="xpbd",
                      windows_not_converged=int(np.sum(~windows["converged"].astype(bool))),
@@ -195,7 +196,8 @@ def slosh(setup, progress: Progress) -> RunResult:
 def run_windows(setup, run: Run, start: Start, body, window: float, n_windows: int):
     """The surface model's windows (:data:`SURFACES`), from ``setup.resume`` when given,
     writing checkpoints to ``setup.checkpoint`` (:mod:`fsi.io.checkpoint`). Returns the
-    surface's data and the :class:`Contents`; the windows' records are in ``run``."""
+    surface's data, the :class:`Contents` and the start's result attributes; the windows'
+    records are in ``run``."""
     table = setup.scene["slosh"]
     if setup.resume is not None:
         windows = setup.resume["windows"]
@@ -208,7 +210,8 @@ def run_windows(setup, run: Run, start: Start, body, window: float, n_windows: i
             write_checkpoint(setup.checkpoint, dict(windows=windows, groups=run.groups,
                                                     elapsed=run.elapsed(),
                                                     scene=setup.scene.text))
-    return windows.finish()
+    # a checkpoint written before the start facts were kept has none
+    return (*windows.finish(), getattr(windows, "start_facts", {}))
 
 
 def stokes_attrs(scene, radius: float, omega: float) -> dict:

@@ -61,7 +61,7 @@ from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocit
                                     membrane_surface, window_settings, window_start,
                                     window_substep)
 from fsi.procedures.coupled_fill import START_MAX_STEPS
-from fsi.setup.static_start import START_SOLVERS, on_wall, static_equilibrium
+from fsi.setup.static_start import START_SOLVERS, on_wall, seed_attrs, static_equilibrium
 from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
 
@@ -108,6 +108,7 @@ class _Parts:
     contents: Contents
     liquid_mass: float
     liquid_centre: np.ndarray
+    start_facts: dict
 
 
 @dataclass
@@ -152,8 +153,8 @@ def static_start(setup, window: float) -> StaticStart:
     if implicit_window(setup.scene):
         # the implicit window's start is settled under its own energies (window_start)
         return StaticStart(xpbd, settings, volume, state, info)
-    state, info = static_equilibrium(setup, xpbd, settings, volume, state)
-    return StaticStart(xpbd, settings, volume, state, info)
+    settled, at_rest = static_equilibrium(setup, xpbd, settings, volume, state)
+    return StaticStart(xpbd, settings, volume, settled, replace(at_rest, seed=info.seed))
 
 
 def _assemble(setup, body, run, window: float) -> _Parts:
@@ -192,7 +193,8 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     c0 = liquid_centroid(model, fluid)
     centre = (liquid_mass * c0 + node_mass @ state.node_position) / mass
     return _Parts(xpbd, model, fluid, surface, membrane,
-                  Contents(held, mass, centre, compliance), liquid_mass, c0)
+                  Contents(held, mass, centre, compliance), liquid_mass, c0,
+                  dict(start_solver=table["start_solver"], **seed_attrs(info)))
 
 
 def start_compliance(setup, start: StaticStart, tilt: float = DEFAULT_TILT,
@@ -255,6 +257,7 @@ class DiaphragmWindows(SurfaceWindows):
     def __init__(self, setup, start, body, run: Run, window: float, n_windows: int):
         super().__init__(window, n_windows)
         self.parts = parts = _assemble(setup, body, run, window)
+        self.start_facts = parts.start_facts
         self.fluid_side = fluid_participant(setup, parts.fluid, parts.surface)
         self.surface_data = dict(face_nodes=setup.model.face_nodes,
                                  node_mass=setup.model.node_mass)

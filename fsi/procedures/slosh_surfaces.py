@@ -56,6 +56,7 @@ class SurfaceWindows:
         self.window, self.n_windows = window, n_windows
         self.k, self.stopped = 0, False
         self.energy_scale = None  # J, see set_energy_scale
+        self.start_facts = {}  # result attributes of the surface's start
 
     def set_energy_scale(self, mass: float, radius: float, body, stored: float = 0.0) -> None:
         """What the start and the tank's motion can give the contents, in J: ``stored`` (the

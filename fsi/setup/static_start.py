@@ -18,10 +18,11 @@ its windows. A registry (scene keys ``dynamics.start_solver`` and ``slosh.start_
   meridian elements), carried onto the grid (:mod:`structure.axisymmetric.mapping`); where
   that branch is unstable to a harmonic (past the onset of folding) the carried state is
   seeded with the critical harmonic's mode, its largest displacement
-  :data:`SEED_AMPLITUDE` (logged with the wave number); then minimised with the scene's law
-  at the volume, as the ``minimisation`` start's last stage. Below the onset the 3-D sheet
-  then starts on the physical branch; past it, on the fold the axisymmetric rung predicts
-  (docs/notes/axisymmetric-onset-vs-3d.md).
+  :data:`SEED_AMPLITUDE`, logged and kept with the wave number as the start's
+  ``Equilibrium.seed`` (written to the result, :func:`seed_attrs`); then minimised with the
+  scene's law at the volume, as the ``minimisation`` start's last stage. Below the onset
+  the 3-D sheet then starts on the physical branch; past it, on the fold the axisymmetric
+  rung predicts (docs/notes/axisymmetric-onset-vs-3d.md).
 
 Each takes (setup, XPBD model, XPBD settings, volume m^3) and returns (MembraneState,
 :class:`structure.load.Equilibrium`); a start that did not converge is logged.
@@ -184,9 +185,16 @@ def carried_axisymmetric(setup, model: XpbdModel, settings: XpbdSettings, volume
              f"seeded with n = {n}, {SEED_AMPLITUDE * 1e3:g} mm" if n else
              "stable to every harmonic, not seeded")
     state, info, iterations = _minimum(setup, model, x, axi.pressure_level, volume)
-    info = replace(info, steps=iterations)
+    info = replace(info, steps=iterations, seed=(n, SEED_AMPLITUDE) if n else ())
     _warn("axisymmetric", volume, info)
     return state, info
+
+
+def seed_attrs(info) -> dict:
+    """The result attributes of a start's seed (:attr:`structure.load.Equilibrium.seed`): its
+    wave number (0: unseeded) and largest displacement (m; 0 unseeded)."""
+    n, amplitude = info.seed if info.seed else (0, 0.0)
+    return dict(start_seed_wave_number=int(n), start_seed_amplitude=float(amplitude))
 
 
 def on_wall(setup, state, info, gap: float = DHAT):
