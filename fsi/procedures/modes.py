@@ -48,9 +48,10 @@ from fsi.registry import Key, Procedure, SceneError, Table, one_of, register_pro
 from fsi.setup.models import XPBD_DYNAMIC_SWEEPS, hydrostatic_load, statics_substep
 from fsi.slosh.hydroelastic import DiaphragmModes, coupled_modes
 from fsi.slosh.modal import tank_modes
-from fsi.procedures.coupled import FLUID, membrane_surface
+from fsi.procedures.coupled import (FLUID, START_SOLVER, check_start_solver,
+                                   membrane_surface)
 from fsi.procedures.coupled_fill import START_MAX_STEPS, START_TOLERANCE
-from fsi.setup.static_start import static_equilibrium
+from fsi.setup.static_start import START_SOLVERS, on_wall, seed_attrs
 from fsi.procedures.slosh import MIN_DEPTH_CELLS
 
 MODE_SURFACES = {"limp": "the slack diaphragm: the liquid's free surface under gravity",
@@ -81,6 +82,9 @@ MODES = Table({
                    "tensioned: the membrane's uniform tension (N/m)"),
     "count": Key(int, 8, lambda v: 1 <= v <= 40, "1..40",
                  "modes computed per fill, by ascending frequency"),
+    "start_solver": replace(START_SOLVER, doc="diaphragm: " + START_SOLVER.doc.replace(
+        "the last two settled under the windows' substeps",
+        "then settled under the Newton model's energies")),
 }, lambda t: _check_tension(t))
 """[modes]: the fills, surface model and number of modes of a modes run."""
 
@@ -104,6 +108,7 @@ def check_setup(setup) -> None:
     tank = SphericalTank(radius)
     h = 2 * radius / (scene["fluid"]["cells"] - 3)
     count = scene["modes"]["count"]
+    check_start_solver(scene, "modes")
     for fill in scene["modes"]["fills"]:
         level = tank.level_holding(fill * tank_volume(radius))
         depth = min(radius + level, radius - level)
@@ -159,11 +164,13 @@ def fill_modes(setup, fill: float, count: int):
     return record, records, dict(tank_fraction=fill, elevation=shape)
 
 
-def diaphragm_modes(setup, fill: float, cells: int, count: int) -> DiaphragmModes:
+def diaphragm_modes(setup, fill: float, cells: int, count: int,
+                    start_solver: str = "relaxation") -> DiaphragmModes:
     """The first ``count`` modes of the scene's membrane over the liquid at tank fraction
     ``fill`` on ``cells`` fluid cells (:func:`fsi.slosh.hydroelastic.coupled_modes`): its
-    static start as the slosh procedure's (the statics' XPBD relaxation with the slosh
-    keys' defaults), settled under the Newton model's energies. ``seconds`` is the whole."""
+    static start by ``start_solver`` (a name in :data:`fsi.setup.static_start.START_SOLVERS`;
+    the relaxation with the slosh keys' defaults; a minimisation's wall contacts put on the
+    wall), settled under the Newton model's energies. ``seconds`` is the whole."""
     tic = _time.perf_counter()
     radius = setup.model.radius
     volume = fill * tank_volume(radius)
@@ -171,7 +178,10 @@ def diaphragm_modes(setup, fill: float, cells: int, count: int) -> DiaphragmMode
     settings = XpbdSettings(dt=statics_substep(setup), iterations=XPBD_DYNAMIC_SWEEPS,
                             warm_start=False, tolerance=START_TOLERANCE,
                             max_steps=START_MAX_STEPS)
-    state, info = static_equilibrium(setup, xpbd, settings, volume)
+    solver = START_SOLVERS[start_solver]
+    state, info = solver.solve(setup, xpbd, settings, volume)
+    if not solver.at_rest:
+        state, info = on_wall(setup, state, info)
     load = hydrostatic_load(setup.liquid, volume_target=volume,
                             pressure_level=info.pressure_level)
     state, equilibrium = settled(xpbd, state, load)
@@ -181,14 +191,15 @@ def diaphragm_modes(setup, fill: float, cells: int, count: int) -> DiaphragmMode
                        body_acceleration=np.asarray(setup.liquid.body_acceleration, float))
     geometry = FluidSolver(model, membrane_surface(setup, xpbd, model).of(state)).state.geometry
     found = coupled_modes(xpbd, state, equilibrium, load, model, geometry, count)
-    return replace(found, seconds=_time.perf_counter() - tic)
+    return replace(found, seconds=_time.perf_counter() - tic, seed=info.seed)
 
 
 def diaphragm_fill_modes(setup, fill: float, count: int):
     """The modes of the scene's membrane about its loaded equilibrium at tank fraction
-    ``fill`` (:func:`fsi.slosh.hydroelastic.diaphragm_modes`; its static start as the slosh
-    procedure's): (the fill's record, the modes' records, None: no surface shapes)."""
-    found = diaphragm_modes(setup, fill, setup.scene["fluid"]["cells"], count)
+    ``fill`` (:func:`fsi.slosh.hydroelastic.diaphragm_modes`; its static start by
+    ``modes.start_solver``): (the fill's record, the modes' records, None: no surface shapes)."""
+    found = diaphragm_modes(setup, fill, setup.scene["fluid"]["cells"], count,
+                            setup.scene["modes"]["start_solver"])
     radius = setup.model.radius
     gravity = -float(setup.liquid.body_acceleration[2])
     omega = np.sqrt(found.omega2)
@@ -220,7 +231,7 @@ def diaphragm_fill_modes(setup, fill: float, count: int):
                                       / found.omega2[found.lateral]) / found.mass),
         static_compliance=np.nan, surface_faces=0, wall_seconds=found.seconds,
         unstable_directions=found.unstable, membrane_dofs=found.dofs,
-        start_pressure_level=found.level, converged=found.converged)
+        start_pressure_level=found.level, converged=found.converged, **seed_attrs(found))
     return record, records, None
 
 
@@ -257,9 +268,10 @@ def modes(setup, progress: Progress) -> RunResult:
     first = run.groups["fills"][0]
     headline = {k: first[k] for k in ("tank_fraction", "lambda1", "frequency_hz",
                                       "slosh_mass_fraction", "hinge_height")}
+    start = {"start_solver": table["start_solver"]} if table["surface"] == "diaphragm" else {}
     return run.result(surface=table["surface"], fluid_cells=setup.scene["fluid"]["cells"],
                       count=table["count"], radius=setup.model.radius,
-                      wall_seconds=run.elapsed(), **headline)
+                      wall_seconds=run.elapsed(), **headline, **start)
 
 
 def report(result: RunResult) -> None:

@@ -71,7 +71,8 @@ class DiaphragmModes:
     its own direction), ``direction_deg`` (n,) deg, ``lateral`` (n,) bool; ``unstable``: the
     directions of negative stiffness found among the lowest (left out); the contents'
     ``mass`` (kg, liquid and membrane), the equilibrium's ``level`` (Pa) and whether it
-    ``converged``, ``dofs`` the free degrees of freedom, ``seconds``."""
+    ``converged``, ``dofs`` the free degrees of freedom, ``seconds``; ``seed`` the
+    imperfection its static start was seeded with (:attr:`structure.load.Equilibrium.seed`)."""
 
     omega2: np.ndarray
     slosh_mass: np.ndarray
@@ -84,6 +85,7 @@ class DiaphragmModes:
     converged: bool
     dofs: int
     seconds: float
+    seed: tuple = ()
 
 
 def coupled_modes(xpbd, state, equilibrium, load, model, geometry, count: int) \
