@@ -79,15 +79,16 @@ def membrane_quadrature(points: np.ndarray, triangles: np.ndarray, levels: int):
 
 
 def _node_mean(n: int, triangles: np.ndarray, weight: np.ndarray, quad_pressure: np.ndarray,
-               fallback: np.ndarray) -> np.ndarray:
-    """int N_i p dA / int N_i dA per node (n,); ``fallback`` where a node has no area."""
+               fallback: Callable[[], np.ndarray]) -> np.ndarray:
+    """int N_i p dA / int N_i dA per node (n,); ``fallback()`` (n,) where a node has no area
+    (evaluated only then: it is a second fit of the whole interface)."""
     p = quad_pressure.reshape(weight.shape[:2])
     num, den = np.zeros(n), np.zeros(n)
     for v in range(3):
         np.add.at(num, triangles[:, v], np.sum(weight[:, :, v] * p, axis=1))
         np.add.at(den, triangles[:, v], np.sum(weight[:, :, v], axis=1))
-    out = np.array(fallback, dtype=float)
     has = den > 0
+    out = np.empty(n) if has.all() else np.array(fallback(), dtype=float)
     out[has] = num[has] / den[has]
     return out
 
@@ -108,7 +109,7 @@ def surface_mean(solver, surface, level: float, cell_weight=None) -> np.ndarray:
     n, triangles = surface.n_points, _membrane_triangles(surface)
     quad, weight = membrane_quadrature(solver.interface.points, triangles, QUADRATURE_LEVELS)
     return _node_mean(n, triangles, weight, solver.pressure_at(quad, level, cell_weight),
-                      node_fit(solver, surface, level, cell_weight))
+                      lambda: node_fit(solver, surface, level, cell_weight))
 
 
 @register_pressure_map("cell-mean")
@@ -125,4 +126,5 @@ def cell_mean(solver, surface, level: float, cell_weight=None) -> np.ndarray:
               + level)
     if not wet.all():  # a point in a cell with little or no liquid: the fit there
         p[~wet] = solver.pressure_at(quad[~wet], level, cell_weight)
-    return _node_mean(n, triangles, weight, p, node_fit(solver, surface, level, cell_weight))
+    return _node_mean(n, triangles, weight, p,
+                      lambda: node_fit(solver, surface, level, cell_weight))
