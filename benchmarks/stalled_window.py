@@ -1,4 +1,4 @@
-"""Why a coupled window stalls short of its tolerance: the window run again four ways, and the
+"""Why a coupled window stalls short of its tolerance: the window run again five ways, and the
 liquid's map probed for jumps.
 
     python benchmarks/stalled_window.py [--scene valve-fill] [--windows 20 84 154] [--as-bundled]
@@ -20,15 +20,12 @@ best iterate kept are the windows probed, then window K is run:
 * with ``fluid.pressure_fit = "tapered"`` (fit weights that vanish at the block's edge,
   :mod:`fluid.sampling`);
 * with both;
-* as run, then, as ``coupling.on_max_iterations = "newton"`` does, Newton steps from its best
-  iterate on a finite-difference Jacobian of H (:mod:`coupling.newton`);
 * as run, then, as ``coupling.on_max_iterations = "split"`` does, again from its start as
   two windows of half its size, a half that stalls halved again (three times at most).
 
 Each: iterations, whether it converged, its smallest pressure residual and the one it ended
-with (the largest of its parts' for a split window), the solves spent on the Jacobian and
-the windows it was done in. Then, around the best
-iterate of the run as run up to it, H is evaluated at x + eps d for random directions d
+with (the largest of its parts' for a split window) and the windows it was done in. Then,
+around the best iterate of the run as run up to it, H is evaluated at x + eps d for random directions d
 (|d| = |x|) and eps = 1e-4 ... 1e-8: |H_liquid(x + eps d) - H_liquid(x)| / (eps |x|) stays
 constant where the liquid's map is smooth and grows as 1/eps across a jump (the membrane's
 positions, the same ratio in m, as a control). Prints one JSON object (about 3 min for the
@@ -61,7 +58,6 @@ probed (the keys' defaults, the best iterate kept after every try's 100 iteratio
 VARIANTS = {"as run": {}, "centre cells held": {"centre_cells": "window"},
             "tapered fit": {"pressure_fit": "tapered"},
             "both": {"centre_cells": "window", "pressure_fit": "tapered"},
-            "Newton steps": {"on_max_iterations": "newton"},
             "split in halves": {"on_max_iterations": "split"}}
 """Variant -> the [fluid] keys (or ``on_max_iterations``) it changes for the window probed."""
 EPSILONS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
@@ -106,7 +102,7 @@ def _window(snapshot: bytes, keys: dict, record_inputs: bool = False):
     summary = dict(iterations=window.iterations, converged=bool(window.converged),
                    smallest_pressure_residual=float(min(residuals)),
                    last_pressure_residual=float(window.last_residuals[PRESSURE]),
-                   jacobian_solves=window.jacobian_solves, parts=window.parts)
+                   parts=window.parts)
     return summary, parts, loop, inputs, residuals, start
 
 

@@ -67,15 +67,9 @@ VALVE_FILL_COUPLING = dict(WINDOW_CELLS, dynamics=dict(node_damping=0.03),
                                          on_max_iterations="accept-best"))
 """Those, the window-mean velocity, the node damping and the best iterate of a stalled window:
 the bundled valve fill's coupling (README, 'Keeping a stalled window's best iterate')."""
-NEWTON = dict(VALVE_FILL_COUPLING, coupling=dict(VALVE_FILL_COUPLING["coupling"],
-                                                on_max_iterations="newton"))
-"""The valve fill's coupling with a stalled window given Newton steps on a finite-difference
-Jacobian (README, 'Newton steps on a finite-difference Jacobian')."""
 BOTH_KEYS = dict(VALVE_FILL_COUPLING, fluid=dict(VALVE_FILL_COUPLING["fluid"],
                                                  centre_cells="window", pressure_fit="tapered"))
 """The valve fill's coupling with the cell classes held over a window and the tapered fit."""
-NEWTON_BOTH_KEYS = dict(BOTH_KEYS, coupling=NEWTON["coupling"])
-"""Those, with Newton steps for a stalled window."""
 END_FILL = 0.9
 CASES = {
     "1e-3, 1 ms": dict(flow=1e-3, window=1e-3, end_time=0.1),
@@ -125,10 +119,6 @@ CASES = {
         flow=1e-2, window=1e-3, end_time=0.1, changes=VALVE_FILL_COUPLING),
     "1e-2, 1 ms, valve-fill's coupling, to 0.3 s": dict(
         flow=1e-2, window=1e-3, end_time=0.3, changes=VALVE_FILL_COUPLING),
-    "1e-2, 1 ms, valve-fill's coupling, Newton, to 0.3 s": dict(
-        flow=1e-2, window=1e-3, end_time=0.3, changes=NEWTON),
-    "1e-2, 1 ms, valve-fill's coupling, Newton, both keys, to 0.3 s": dict(
-        flow=1e-2, window=1e-3, end_time=0.3, changes=NEWTON_BOTH_KEYS),
     "1e-2, 1 ms, valve-fill's coupling, both keys, to 0.3 s": dict(
         flow=1e-2, window=1e-3, end_time=0.3, changes=BOTH_KEYS),
     "3e-3, 1 ms, mixing 0.1, no reuse": dict(
@@ -161,14 +151,12 @@ LONG_CASES = ("from 0.5 to 0.9, simply-supported, 1e-2, 1 ms, mixing 0.1, no reu
               "window cells",
               "1e-2, 1 ms, mixing 0.1, no reuse, window cells, 24^3",
               "1e-2, 1 ms, valve-fill's coupling, to 0.3 s",
-              "1e-2, 1 ms, valve-fill's coupling, Newton, to 0.3 s",
-              "1e-2, 1 ms, valve-fill's coupling, Newton, both keys, to 0.3 s",
               "1e-2, 1 ms, valve-fill's coupling, both keys, to 0.3 s")
 """Cases run only when named in ``--cases``: the whole fill from half full and the valve
 fill's drain (each with the cells chosen anew each iteration and at each window's start),
 each a quarter of an hour or more, the opening from 0.1 on the 24^3 liquid grid, and the
-opening from 0.1 with the valve fill's coupling to 0.3 s (about 10 min), alone or with
-Newton steps for its stalled windows (and the two [fluid] keys)."""
+opening from 0.1 with the valve fill's coupling to 0.3 s (about 10 min), alone or with the
+two [fluid] keys."""
 SMOKE_CASES = {"1e-3, 2 ms": 0.004, "1e-3, quasi-static": 0.4,
                "from 0.5, clamped, 1e-2, 1 ms": 0.002}
 """--smoke: one case of each kind (inertial and quasi-static windows from START_FILL, an

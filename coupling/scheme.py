@@ -20,12 +20,7 @@ On reaching ``max_iterations`` without convergence the scheme raises :class:`Cou
 every measured residual is at most ``accept_residual``, else it raises as ``"error"`` does),
 accepts the window's best iterate in the same way (``"accept-best"``: the iteration whose
 largest residual over its measure's limit was smallest, its two solves repeated from the
-window's start with that iteration's input, one iteration more), goes on from the best
-iterate by Newton steps on a finite-difference Jacobian of the fixed-point map
-(``"newton"``: one solve of both participants per entry of the accelerated vector, then at
-most ``newton_iterations`` steps, :mod:`coupling.newton`; a window they converge is
-converged, else the best iterate of all is accepted as with ``"accept-best"``), redoes
-it from its start as two windows of half its size, each from the fields the one before it
+window's start with that iteration's input, one iteration more), redoes it from its start as two windows of half its size, each from the fields the one before it
 converged to (``"split"``: a half that does not converge is halved again, at most
 ``split_depth`` times, and at the last level its best iterate is accepted as with
 ``"accept-best"``, or with ``split_unconverged = "window"`` the whole window is redone
@@ -60,7 +55,6 @@ import numpy as np
 
 from .acceleration import ACCELERATIONS, AccelerationSettings
 from .convergence import ConvergenceMeasure, StallRule, residual_score, window_converged
-from .newton import JACOBIAN_STEP, SecantNewton, finite_difference_jacobian
 from .participant import Participant
 
 log = logging.getLogger(__name__)
@@ -68,7 +62,7 @@ log = logging.getLogger(__name__)
 SCHEMES: dict[str, Callable] = {}
 IMPLICIT_SCHEMES: set[str] = set()
 """Names in SCHEMES that iterate each window until the convergence measures hold."""
-ON_MAX_ITERATIONS = ("error", "accept", "accept-best", "explicit", "newton", "split")
+ON_MAX_ITERATIONS = ("error", "accept", "accept-best", "explicit", "split")
 SPLIT_UNCONVERGED = ("parts", "window")
 """What a split window some of whose smallest parts did not converge keeps: those parts'
 best iterates, or the whole window redone from its start with its best iterate kept."""
@@ -107,9 +101,7 @@ class CouplingSettings:
     acceleration_settings : :class:`AccelerationSettings`; measures : list of
     :class:`ConvergenceMeasure`, at least one for a scheme in IMPLICIT_SCHEMES;
     max_iterations : per window; on_max_iterations : one of ON_MAX_ITERATIONS (module doc);
-    newton_iterations : with ``newton``, the steps on the finite-difference Jacobian at most;
-    jacobian_step : its finite-difference step, a fraction of the rms of the accelerated
-    vector; split_depth : with ``split``, how many times a window may be halved (its
+    split_depth : with ``split``, how many times a window may be halved (its
     smallest parts 2**-split_depth of it); stall_iterations, stall_reduction : with
     ``split``, a try that will be split stops once its best residual has not fallen to
     stall_reduction of itself in stall_iterations iterations (0: it runs max_iterations);
@@ -130,8 +122,6 @@ class CouplingSettings:
     accelerated_fields: Optional[tuple] = None
     extrapolation_order: int = 0
     accept_residual: float = float("inf")
-    newton_iterations: int = 10
-    jacobian_step: float = JACOBIAN_STEP
     split_depth: int = 3
     stall_iterations: int = 0
     stall_reduction: float = 0.5
@@ -149,8 +139,6 @@ class CouplingSettings:
                              f"got {self.on_max_iterations!r}")
         if not self.accept_residual > 0:
             raise ValueError(f"accept_residual must be > 0, got {self.accept_residual!r}")
-        if self.newton_iterations < 1:
-            raise ValueError(f"newton_iterations must be >= 1, got {self.newton_iterations!r}")
         if not 1 <= self.split_depth <= 20:
             raise ValueError(f"split_depth must be in 1..20, got {self.split_depth!r}")
         if not 0 <= self.stall_iterations <= 10_000:
@@ -165,8 +153,6 @@ class CouplingSettings:
                              f"{self.split_unconverged!r}")
         if not 0.0 < self.stall_reduction < 1.0:
             raise ValueError(f"stall_reduction must be in (0, 1), got {self.stall_reduction!r}")
-        if not 0.0 < self.jacobian_step < 1.0:
-            raise ValueError(f"jacobian_step must be in (0, 1), got {self.jacobian_step!r}")
         if self.max_iterations < 1:
             raise ValueError(f"max_iterations must be >= 1, got {self.max_iterations!r}")
         if self.extrapolation_order not in EXTRAPOLATION_WEIGHTS:
@@ -183,9 +169,7 @@ class WindowLog:
     """One window: index, start time (s), size (s), iterations, residuals per iteration
     ({field: norm}), relaxation per iteration (NaN for quasi-Newton steps), converged flag,
     seconds spent in each participant's ``solve_window``, ``explicit``: redone by the
-    explicit scheme after ``iterations - 1`` iterations did not converge, and
-    ``jacobian_solves``: solves of both participants spent on a finite-difference Jacobian
-    (``on_max_iterations = "newton"``; the steps on it are counted in ``iterations``);
+    explicit scheme after ``iterations - 1`` iterations did not converge;
     ``parts``: the windows it was done in (more than 1: split, ``on_max_iterations =
     "split"``; its iterations, residuals and relaxations are then its first try's followed
     by every part's), ``part_residuals``, each part's last residuals, and ``split_undone``:
@@ -201,7 +185,6 @@ class WindowLog:
     converged: bool = False
     seconds: dict = field(default_factory=dict)
     explicit: bool = False
-    jacobian_solves: int = 0
     part_residuals: list = field(default_factory=list)
     split_undone: bool = False
 
@@ -415,13 +398,11 @@ def _whole_best(first, second, settings, acceleration, iterate, data, checkpoint
 
 
 def _add(window: WindowLog, part: WindowLog) -> None:
-    """``part``'s iterations, residuals, relaxations, seconds and solves added to
-    ``window``'s."""
+    """``part``'s iterations, residuals, relaxations and seconds added to ``window``'s."""
     window.iterations += part.iterations
     window.residuals.extend(part.residuals)
     window.relaxation.extend(part.relaxation)
     window.explicit |= part.explicit
-    window.jacobian_solves += part.jacobian_solves
     for name, seconds in part.seconds.items():
         window.seconds[name] = window.seconds.get(name, 0.0) + seconds
 
@@ -520,7 +501,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
     acceleration.start_window()
     packer = None
     best = _BestIterate(settings.measures) \
-        if settings.on_max_iterations in ("accept-best", "newton") else None
+        if settings.on_max_iterations == "accept-best" else None
 
     stalled = StallRule(settings.stall_iterations, settings.stall_reduction) \
         if settings.stall_iterations else None
@@ -529,7 +510,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
     def solves(x: dict, it: int) -> dict:
         """Both solves from the window's start with input ``x``: x_tilde (``it`` names the
         iteration in an error)."""
-        if window.iterations > 0 or window.jacobian_solves > 0:
+        if window.iterations > 0:
             first.restore_checkpoint(checkpoints[0])
             second.restore_checkpoint(checkpoints[1])
         solved[0] = None
@@ -566,12 +547,6 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         _check_finite(new, "the acceleration gave", window, t, it)
         window.relaxation.append(acceleration.last_relaxation)
         x = {**x_tilde, **new}
-    if not window.converged and settings.on_max_iterations == "newton":
-        x_tilde = _newton(settings, solves, iteration, best, packer or _Packer(names, x_tilde),
-                          window, t)
-        if window.converged:
-            acceleration.end_window()
-            return x_tilde
     if not window.converged and settings.on_max_iterations == "split":
         return x_tilde  # redone in halves by the caller (_window)
     if not window.converged:
@@ -583,7 +558,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
             x_tilde, residuals = iteration(best.input, window.iterations + 1)
             msg = (f"{msg}; the best, iteration {best.iteration}, repeated: residuals "
                    f"{residuals}")
-        if (settings.on_max_iterations in ("accept", "accept-best", "newton")
+        if (settings.on_max_iterations in ("accept", "accept-best")
                 and max(window.residuals[-1].values()) > settings.accept_residual):
             raise CouplingError(f"{msg}, above accept_residual = {settings.accept_residual:g}",
                                 window)
@@ -594,47 +569,6 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
         log.warning("%s; accepted", msg)
         acceleration.stalled()
     acceleration.end_window()
-    return x_tilde
-
-
-def _newton(settings, solves, iteration, best, packer, window, t) -> dict:
-    """Newton steps from the window's best iterate on a finite-difference Jacobian of the
-    map (:mod:`coupling.newton`); sets ``window.converged`` when they converge it. Returns
-    the last x_tilde."""
-    x = dict(best.input)
-    x_tilde, residuals = iteration(x, window.iterations + 1)
-    if window_converged(settings.measures, residuals):
-        window.converged = True
-        return x_tilde
-
-    def evaluate(vector):
-        window.jacobian_solves += 1
-        return packer.pack(solves({**x, **packer.unpack(vector)}, window.iterations))
-
-    try:
-        jacobian = finite_difference_jacobian(evaluate, packer.pack(x), packer.pack(x_tilde),
-                                              settings.jacobian_step)
-    except (CouplingError, FloatingPointError) as err:
-        log.warning("window %d (t = %g s): no finite-difference Jacobian (%s)", window.index,
-                    t, err)
-        return x_tilde
-    steps = SecantNewton(jacobian)
-    for step in range(1, settings.newton_iterations + 1):
-        new = packer.unpack(steps.update(packer.pack(x), packer.pack(x_tilde)))
-        if not all(np.all(np.isfinite(v)) for v in new.values()):
-            break
-        x = {**x_tilde, **new}
-        try:
-            x_tilde, residuals = iteration(x, window.iterations + 1)
-        except CouplingError as err:  # a step into a non-finite answer: the best stays
-            log.warning("%s", err)
-            break
-        window.relaxation.append(float("nan"))
-        if window_converged(settings.measures, residuals):
-            window.converged = True
-            log.info("window %d (t = %g s) converged by %d Newton steps after %d solves for "
-                     "the Jacobian", window.index, t, step, window.jacobian_solves)
-            break
     return x_tilde
 
 

@@ -11,7 +11,6 @@ import numpy as np
 from coupling import (ACCELERATIONS, EXTRAPOLATION_WEIGHTS, ON_MAX_ITERATIONS, SCHEMES,
                       SPLIT_UNCONVERGED, AccelerationSettings, ConvergenceMeasure,
                       CouplingSettings)
-from coupling.newton import JACOBIAN_STEP
 from fluid.model import FACE_MEMORIES
 from fluid.sampling import CELL_WEIGHTS, FIT_KERNELS
 from fluid.solver import FluidSolver
@@ -340,10 +339,7 @@ COUPLING = Table({
                              "stop with an error, accept the window's last iterate and log it, "
                              "accept its best iterate (smallest residuals, its solves repeated) "
                              "and log it, redo it once by the explicit scheme and log it, or "
-                             "go on from its best iterate by Newton steps on a "
-                             "finite-difference Jacobian (one solve pair per node; if they do "
-                             "not converge, the best iterate is accepted and logged; "
-                             "docs/notes/newton-steps.md), or redo it from its start as two "
+                             "redo it from its start as two "
                              "windows of half its size, a half that does not converge halved "
                              "again, split_depth times at most, the smallest's best iterate "
                              "accepted (docs/notes/split-windows.md)"),
@@ -365,12 +361,6 @@ COUPLING = Table({
                              "iterates) or window (the whole window redone from its start, its "
                              "best iterate kept as accept-best keeps it; "
                              "docs/notes/split-windows.md, 'A split that does not converge')"),
-    "newton_iterations": Key(int, 10, lambda v: 1 <= v <= 1000, "1..1000",
-                             "on_max_iterations = newton: steps on the finite-difference "
-                             "Jacobian at most"),
-    "jacobian_step": Key(float, JACOBIAN_STEP, lambda v: 0 < v < 1, "0 < value < 1",
-                         "on_max_iterations = newton: the finite-difference step, a fraction "
-                         "of the rms interface pressure"),
     "accept_residual": Key(float, float("inf"), lambda v: v > 0, "> 0 (inf: any)",
                            "on_max_iterations = accept: the largest residual (relative change "
                            "per iteration, pressure or positions) a window that did not "
@@ -397,7 +387,6 @@ def coupling_settings(c: dict) -> CouplingSettings:
                   ConvergenceMeasure(POINTS, "relative", c["position_tolerance"])],
         max_iterations=c["max_iterations"], on_max_iterations=c["on_max_iterations"],
         accept_residual=c["accept_residual"],
-        newton_iterations=c["newton_iterations"], jacobian_step=c["jacobian_step"],
         split_depth=c["split_depth"], stall_iterations=c["stall_iterations"],
         stall_reduction=c["stall_reduction"], split_unconverged=c["split_unconverged"],
         extrapolation_order=c["extrapolation_order"])

@@ -206,7 +206,7 @@ def window_recorder(setup, parts: Coupled, run: Run, controller=None):
         run.record("windows", dict(
             time=t, window_size=w.size, window_error=error,
             coupling_iterations=w.iterations, converged=w.converged, explicit=w.explicit,
-            jacobian_solves=w.jacobian_solves, window_parts=w.parts,
+            window_parts=w.parts,
             split_undone=w.split_undone,
             residual_pressure=float(last.get(PRESSURE, np.nan)),
             residual_points=float(last.get(POINTS, np.nan)),
@@ -258,8 +258,6 @@ def coupled_fill(setup, progress: Progress) -> RunResult:
     attrs["windows_with_inertia"] = len(parts.membrane.dynamic_windows)
     attrs["windows_explicit"] = sum(r["explicit"] for r in run.groups.get("windows", []))
     attrs["windows_unconverged"] = sum(not r["converged"] for r in run.groups.get("windows", []))
-    attrs["windows_newton"] = sum(r.get("jacobian_solves", 0) > 0
-                                  for r in run.groups.get("windows", []))
     attrs["windows_split"] = sum(r.get("window_parts", 1) > 1
                                  for r in run.groups.get("windows", []))
     attrs["windows_split_undone"] = sum(r.get("split_undone", False)
@@ -328,8 +326,7 @@ def report(result) -> None:
     if w is None:
         return
     print(f"  windows not converged: {a['windows_unconverged']} (of which redone by the "
-          f"explicit scheme: {a['windows_explicit']}); given Newton steps on a "
-          f"finite-difference Jacobian: {a.get('windows_newton', 0)}; redone in halves: "
+          f"explicit scheme: {a['windows_explicit']}); redone in halves: "
           f"{a.get('windows_split', 0)} (redone whole: {a.get('windows_split_undone', 0)}); "
           f"with the membrane's inertia: "
           f"{a['windows_with_inertia']}")
