@@ -135,3 +135,29 @@ def test_spectral_radius_damps_what_the_step_does_not_resolve():
 def test_bad_settings_name_the_key():
     with pytest.raises(ValueError, match="rho_inf"):
         AlphaSettings(rho_inf=1.5)
+
+
+def test_a_failed_step_leaves_the_hinges_where_it_began():
+    """A step whose Newton does not converge raises NewtonDivergence with every hinge's
+    reference turn as before the step (its iterates followed them), so that the window's
+    retry with a smaller step picks each hinge's turn from the state it starts at; the
+    retry then gives what a fresh model gives."""
+    from structure.newton.dynamics import NewtonDivergence
+
+    model, x, omega, mode, centre = _sheet(6, bending=True)
+    start = x.copy()
+    start[:, 2] += 0.05 * PLATE.radius * mode
+    state = AlphaState(start, np.zeros_like(start))
+    load = Load(np.zeros(len(x)), np.zeros(3), None, 0.0, None)
+    model.follow(start)
+    before = [s.copy() for s in model.path_state()]
+    dt = 2 * np.pi / omega / 4
+    with pytest.raises(NewtonDivergence):
+        step(model, state, load, dt, AlphaSettings(max_iterations=1))
+    assert all(np.array_equal(a, b) for a, b in zip(model.path_state(), before))
+    assert any(np.abs(b).max() > 0 for b in before)
+    fresh, *_ = _sheet(6, bending=True)
+    fresh.follow(start)
+    retried, _ = step(model, state, load, dt / 2)
+    reference, _ = step(fresh, state, load, dt / 2)
+    assert np.array_equal(retried.node_position, reference.node_position)

@@ -153,9 +153,22 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
     step's end and the level is its multiplier, started at ``load.pressure_level``; without,
     the level ``load.pressure_level`` is held). Returns (:class:`AlphaState` at t + dt,
     :class:`structure.load.StepInfo` with the Newton iterations and the level). Raises
-    :class:`NewtonDivergence` when the step's Newton does not converge."""
+    :class:`NewtonDivergence` when the step's Newton does not converge (an iterate whose
+    triangles degenerate included), the hinges' references then back where the step began
+    (a retry from ``state`` picks each hinge's turn as before it)."""
     if not dt > 0:
         raise ValueError(f"time step must be > 0 s, got {dt!r}")
+    saved = model.path_state()
+    try:
+        return _step(model, state, load, dt, settings)
+    except NewtonDivergence:
+        model.restore_path(saved)
+        raise
+
+
+def _step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
+          settings: AlphaSettings) -> tuple[AlphaState, StepInfo]:
+    """:func:`step`, the hinges' references left where its last iterate took them."""
     am, af, gamma, beta = settings.coefficients
     base = model.base
     fixed = base.node_fixed
@@ -241,7 +254,11 @@ def step(model: NewtonModel, state: MembraneState, load: Load, dt: float,
         x = x + dx
         if not np.all(np.isfinite(x)):
             break
-        model.follow(x)
+        try:
+            model.follow(x)
+        except (ZeroDivisionError, FloatingPointError) as error:
+            raise NewtonDivergence(f"generalised-alpha step of {dt:g} s: the iterate "
+                                   f"degenerates ({error})") from error
         if float(np.abs(dx).max()) <= STAGNATION * base.radius and \
                 abs(volume_error) <= 1e-9 * max(abs(load.volume_target or 0.0), 1e-30):
             # the correction is at round-off: the residual's floor is the cancellation of

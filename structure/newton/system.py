@@ -113,6 +113,16 @@ class NewtonModel:
             if hasattr(term, "follow"):
                 term.follow(x)
 
+    def path_state(self) -> list:
+        """What :meth:`follow` carries, copied (each following term's
+        ``path_state()``): a failed step's iterates are taken back by :meth:`restore_path`."""
+        return [term.path_state() for term in self.terms if hasattr(term, "follow")]
+
+    def restore_path(self, saved: list) -> None:
+        """The following terms back to ``saved`` (:meth:`path_state`)."""
+        for term, state in zip((t for t in self.terms if hasattr(t, "follow")), saved):
+            term.restore_path(state)
+
     def liquid_volume(self, x: np.ndarray) -> float:
         """V(x) (m^3): the liquid below the membrane."""
         return lower_hemisphere_volume(self.base.radius) + self.volume.evaluate(x, False)[0]

@@ -233,6 +233,14 @@ class BendingTerm:
         (:meth:`structure.bending.MidedgeBending.follow`)."""
         self.bending.follow(x)
 
+    def path_state(self) -> np.ndarray:
+        """A copy of the hinges' reference turns (m, 3) rad, for :meth:`restore_path`."""
+        return self.bending.reference_change.copy()
+
+    def restore_path(self, saved: np.ndarray) -> None:
+        """The hinges' reference turns back to ``saved`` (:meth:`path_state`)."""
+        self.bending.reference_change[:] = saved
+
     def evaluate(self, x: np.ndarray, hessian: bool = True):
         """(energy J, gradient (n, 3) N, blocks (m, 6, 6, 3, 3) N/m) at ``x`` (n, 3) m."""
         b = self.bending
