@@ -505,28 +505,21 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
 
     stalled = StallRule(settings.stall_iterations, settings.stall_reduction) \
         if settings.stall_iterations else None
-    solved = [0]  # the logged iteration whose solves the participants hold (None: another's)
 
-    def solves(x: dict, it: int) -> dict:
-        """Both solves from the window's start with input ``x``: x_tilde (``it`` names the
-        iteration in an error)."""
+    def iteration(x: dict, it: int):
+        """Both solves from the window's start with input ``x``, logged as iteration ``it``
+        (the participants then hold its solves): (x_tilde, residuals)."""
         if window.iterations > 0:
             first.restore_checkpoint(checkpoints[0])
             second.restore_checkpoint(checkpoints[1])
-        solved[0] = None
         out1 = solve1(t, dt, _pick(x, second.write_fields))
         out2 = solve2(t, dt, _pick(x if parallel else out1, first.write_fields))
         x_tilde = {**x, **out1, **out2}
         _check_finite({m.field: x_tilde[m.field] for m in settings.measures},
                       "a participant returned", window, t, it)
-        return x_tilde
-
-    def iteration(x: dict, it: int):
-        """Both solves with input ``x``, logged as iteration ``it``: (x_tilde, residuals)."""
-        x_tilde = solves(x, it)
         residuals = {m.field: m.residual(x[m.field], x_tilde[m.field]) for m in settings.measures}
         window.residuals.append(residuals)
-        window.iterations = solved[0] = it
+        window.iterations = it
         if best is not None:
             best.offer(it, x, residuals)
         return x_tilde, residuals
@@ -554,7 +547,7 @@ def _implicit(first, second, settings, acceleration, data, t, dt, window, parall
                f"iterations; last residuals {window.residuals[-1]}")
         if settings.on_max_iterations == "error":
             raise CouplingError(msg, window)
-        if best is not None and solved[0] != best.iteration:
+        if best is not None and window.iterations != best.iteration:
             x_tilde, residuals = iteration(best.input, window.iterations + 1)
             msg = (f"{msg}; the best, iteration {best.iteration}, repeated: residuals "
                    f"{residuals}")

@@ -97,14 +97,15 @@ START_GRID = Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
                  "(docs/notes/one-fold-state.md)")
 """dynamics.start_grid and slosh.start_grid (:mod:`fsi.setup.carried_start`)."""
 
+START_SOLVER_DOC = ("how the static start is found (docs/user-guide/procedures.md, 'The "
+                    "static start'): relaxation (damped XPBD from the manufactured shape), "
+                    "minimisation (the tension field's fill path from rest, then the full "
+                    "law at the volume) or axisymmetric (the shell of revolution's fill "
+                    "carried onto the grid, seeded with its critical harmonic past the onset "
+                    "of folding, then minimised)")
+"""What every ``start_solver`` key says; each adds how its run settles the start."""
 START_SOLVER = Key(str, "relaxation", *one_of(sorted(START_SOLVERS)),
-                   "how the static start is found (docs/user-guide/procedures.md, 'The static "
-                   "start'): relaxation (damped XPBD from the manufactured shape), "
-                   "minimisation (the tension field's fill path from rest, then the full "
-                   "law at the volume) or axisymmetric (the shell of revolution's fill carried "
-                   "onto the grid, seeded with its critical harmonic past the onset of "
-                   "folding, then minimised); the last two settled under the windows' "
-                   "substeps")
+                   START_SOLVER_DOC + "; the last two settled under the windows' substeps")
 """dynamics.start_solver and slosh.start_solver (:mod:`fsi.setup.static_start`)."""
 
 DYNAMICS = Table({

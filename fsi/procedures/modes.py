@@ -48,8 +48,8 @@ from fsi.registry import Key, Procedure, SceneError, Table, one_of, register_pro
 from fsi.setup.models import XPBD_DYNAMIC_SWEEPS, hydrostatic_load, statics_substep
 from fsi.slosh.hydroelastic import DiaphragmModes, coupled_modes
 from fsi.slosh.modal import tank_modes
-from fsi.procedures.coupled import (FLUID, START_SOLVER, check_start_solver,
-                                   membrane_surface)
+from fsi.procedures.coupled import (FLUID, START_SOLVER, START_SOLVER_DOC,
+                                   check_start_solver, membrane_surface)
 from fsi.procedures.coupled_fill import START_MAX_STEPS, START_TOLERANCE
 from fsi.setup.static_start import START_SOLVERS, on_wall, seed_attrs
 from fsi.procedures.slosh import MIN_DEPTH_CELLS
@@ -82,9 +82,8 @@ MODES = Table({
                    "tensioned: the membrane's uniform tension (N/m)"),
     "count": Key(int, 8, lambda v: 1 <= v <= 40, "1..40",
                  "modes computed per fill, by ascending frequency"),
-    "start_solver": replace(START_SOLVER, doc="diaphragm: " + START_SOLVER.doc.replace(
-        "the last two settled under the windows' substeps",
-        "then settled under the Newton model's energies")),
+    "start_solver": replace(START_SOLVER, doc="diaphragm: " + START_SOLVER_DOC
+                            + "; then settled under the Newton model's energies"),
 }, lambda t: _check_tension(t))
 """[modes]: the fills, surface model and number of modes of a modes run."""
 
