@@ -41,6 +41,13 @@ Prints one JSON object (a full run also writes ``docs/data/axisymmetric_vs_3d.js
 Newton stops at any stationary point; its rows under ``minimisation``, the same keys). A
 solver not rerun keeps its rows from the last full run.
 
+``--grading START STOP DENSITY`` solves on the graded grid (:class:`structure.grid.Grading`:
+DENSITY times the rings per unit of meridian between the fractions START and STOP of it from
+the pole) instead of App. C's; its rows go under ``graded`` (with ``band`` and ``density``)
+and the App. C rows (and their ``seconds``) are kept from the last run. ``--grids``, ``--fractions`` and
+``--seed-grids`` (none: ``--seed-grids``) replace :data:`GRIDS`, :data:`FRACTIONS` and
+:data:`SEED_GRIDS`.
+
 ``--smoke``: N = 14 at tank fraction 0.025, and the seeded start on N = 14.
 """
 from __future__ import annotations
@@ -48,6 +55,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from dataclasses import replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -62,18 +70,18 @@ from structure.axisymmetric import leg, meridian_fields
 from structure.axisymmetric.harmonics import stability
 from structure.axisymmetric.mapping import rest_arc_length, surface_points
 from structure.axisymmetric.solve import equilibrium
-from structure.grid import hemisphere_grid, quad_faces
+from structure.grid import Grading, hemisphere_grid, quad_faces
 from structure.inertia import constrained_negative
 from structure.minimise import fill_path, inside, minimisation_model
 from structure.minimise.newton import evaluate as minimise_evaluate
-from structure.model import MembraneState
+from structure.model import MembraneState, hemisphere_model
 from structure.newton import statics
 from structure.newton.system import NewtonModel
 from structure.tangent.load import WallTerm
 from structure.shell import ShellModel, ShellSettings
 from structure.volume import tank_volume
 
-DOC_FIELDS = ("below_onset", "above_onset", "minimisation", "elements", "seconds")
+DOC_FIELDS = ("below_onset", "above_onset", "minimisation", "graded", "elements", "seconds")
 #: meridian elements of the axisymmetric states
 ELEMENTS = 256
 #: 3-D grids and tank fractions below the onset of folding (0.0382), past the fill's snap
@@ -117,11 +125,18 @@ def axisymmetric_states(fractions):
     return shell, load, out
 
 
-def three_d_model(grid_size: int):
-    """(Newton model, setup) of the ``diaphragm-static`` scene's shell model on ``grid_size``."""
+def three_d_model(grid_size: int, grading: dict = None):
+    """(Newton model, setup) of the ``diaphragm-static`` scene's shell model on ``grid_size``
+    (``grading``: the scene's ``membrane.grading_band`` and ``grading_density`` keys, given
+    to the sheet's model)."""
     setup = build(load_scene("diaphragm-static").with_keys(
         {"membrane": {"grid_size": grid_size},
          "structure": {"model": "shell", "shell_law": "neo-hookean"}}))
+    if grading:   # the sheet alone: the scene's sweep checks its XPBD start, not run here
+        setup = replace(setup, model=hemisphere_model(
+            grid_size, setup.model.radius, setup.model.material,
+            setup.scene["membrane"]["support"],
+            Grading(tuple(grading["grading_band"]), grading["grading_density"])))
     shell_model = ShellModel.from_membrane(setup.model, ShellSettings(law="neo-hookean"))
     return NewtonModel.from_shell(shell_model), setup
 
@@ -245,15 +260,19 @@ def compare(shell, equilibrium_axi, model, setup, hold: str, fraction: float, se
                 dominant=int(largest[0][0]) if largest else None)
 
 
-def run_solver(solve, shell, load, states, grids, fractions, seed_grids, hold) -> dict:
-    """below_onset and above_onset (module doc) with one solver."""
+def run_solver(solve, shell, load, states, grids, fractions, seed_grids, hold,
+               grading=None) -> dict:
+    """below_onset and above_onset (module doc) with one solver (``grading`` as
+    :func:`three_d_model`)."""
     below = []
     for n in grids:
-        model, setup = three_d_model(n)
+        model, setup = three_d_model(n, grading)
         for f in fractions:
             below.append(dict(grid_size=n, **compare(shell, states[f], model, setup, hold, f,
                                                       solve=solve)))
     above = []
+    if not seed_grids:
+        return dict(below_onset=below, above_onset=above)
     axi = states[SEED_FRACTION]
     table = stability(shell, axi.state, load.liquid_density * load.gravity,
                       axi.pressure - axi.pressure_level)
@@ -263,7 +282,7 @@ def run_solver(solve, shell, load, states, grids, fractions, seed_grids, hold) -
     peak = float(np.abs(mode.reshape(-1, 6)[:, [0, 2, 4]]).max())
     amplitude = SEED_AMPLITUDE / peak
     for n in seed_grids:
-        model, setup = three_d_model(n)
+        model, setup = three_d_model(n, grading)
         seeded = compare(shell, axi, model, setup, hold, SEED_FRACTION,
                          (mode, critical, amplitude), solve=solve)
         plain = compare(shell, axi, model, setup, hold, SEED_FRACTION, solve=solve)
@@ -280,20 +299,38 @@ def main(argv=None) -> dict:
                         help="the liquid volume each 3-D solve holds (module doc)")
     parser.add_argument("--solvers", nargs="+", choices=sorted(SOLVERS),
                         default=sorted(SOLVERS), help="the 3-D solvers to run (module doc)")
+    parser.add_argument("--grading", nargs=3, type=float, metavar=("START", "STOP", "DENSITY"),
+                        help="solve on the graded grid (module doc)")
+    parser.add_argument("--grids", nargs="+", type=int, help="3-D grids below the onset")
+    parser.add_argument("--fractions", nargs="+", type=float,
+                        help="tank fractions below the onset")
+    parser.add_argument("--seed-grids", nargs="*", type=int, help="3-D grids past the onset")
     args = parser.parse_args(argv)
     began = time.perf_counter()
-    grids = SMOKE_GRIDS if args.smoke else GRIDS
-    fractions = SMOKE_FRACTIONS if args.smoke else FRACTIONS
+    grids = args.grids or (SMOKE_GRIDS if args.smoke else GRIDS)
+    fractions = args.fractions or (SMOKE_FRACTIONS if args.smoke else FRACTIONS)
     shell, load, states = axisymmetric_states(tuple(fractions) + (SEED_FRACTION,))
-    seed_grids = SMOKE_SEED_GRIDS if args.smoke else SEED_GRIDS
+    seed_grids = (args.seed_grids if args.seed_grids is not None
+                  else SMOKE_SEED_GRIDS if args.smoke else SEED_GRIDS)
+    grading = (None if args.grading is None else
+               {"grading_band": list(args.grading[:2]), "grading_density": args.grading[2]})
     results = {name: run_solver(SOLVERS[name], shell, load, states, grids, fractions,
-                                seed_grids, args.hold) for name in args.solvers}
+                                seed_grids, args.hold, grading) for name in args.solvers}
     out = dict(elements=ELEMENTS, hold=args.hold, **_earlier(args.smoke))
+    out.pop("seconds", None)
+    if grading is not None:
+        out["graded"] = dict(band=grading["grading_band"], density=grading["grading_density"],
+                             **results)
+        results = {}
     if "newton" in results:
         out.update(results["newton"])
     if "minimisation" in results:
         out["minimisation"] = results["minimisation"]
-    out["seconds"] = round(time.perf_counter() - began, 1)
+    seconds = round(time.perf_counter() - began, 1)
+    if grading is not None:    # the App. C rows' seconds stay theirs
+        out["graded"]["seconds"] = seconds
+        seconds = _earlier(args.smoke).get("seconds", seconds)
+    out["seconds"] = seconds
     emit("axisymmetric_vs_3d", out, args.smoke)
     return out
 
@@ -304,8 +341,8 @@ def _earlier(smoke: bool) -> dict:
     if smoke or not path.is_file():
         return {}
     earlier = json.loads(path.read_text())
-    return {k: earlier[k] for k in ("below_onset", "above_onset", "minimisation")
-            if k in earlier}
+    return {k: earlier[k] for k in ("below_onset", "above_onset", "minimisation", "graded",
+                                    "seconds") if k in earlier}
 
 
 if __name__ == "__main__":

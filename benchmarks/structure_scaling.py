@@ -37,7 +37,11 @@ grids. Goals
 N = 150 in 30 min. Writes ``benchmarks/output/structure_scaling.png`` (seconds against N,
 the solvers side by side) and prints one JSON object; a full run also writes it to
 ``docs/data/structure_scaling.json``, keeping the solvers it did not rerun from the last
-run at the same fill (their commits in ``measured_at``). ``--smoke``: :data:`SMOKE`.
+run at the same fill (their commits in ``measured_at``). ``--grading START STOP DENSITY``
+runs the solvers on the graded grid (:class:`structure.grid.Grading`, the scene keys
+``membrane.grading_band`` and ``grading_density``) instead of App. C's: their entries go
+under ``graded`` (with ``band`` and ``density``; no residual-stiffness study) and the App. C
+solvers are kept as they were. ``--smoke``: :data:`SMOKE`.
 """
 from __future__ import annotations
 
@@ -46,6 +50,7 @@ import json
 import logging
 import sys
 import time
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -57,7 +62,8 @@ from fsi.setup.build import build
 from fsi.setup.models import STRUCTURE_MODELS, hydrostatic_load
 from structure.minimise import fill_path as minimise_fill_path
 from structure.minimise import RESIDUAL_STIFFNESS, inside, minimisation_model, xpbd_terms
-from structure.model import MembraneState
+from structure.grid import Grading
+from structure.model import MembraneState, hemisphere_model
 from structure.newton.statics import NewtonSettings, fill_path
 from structure.newton.system import NewtonModel
 from structure.volume import tank_volume
@@ -66,7 +72,7 @@ from structure.xpbd.model import XpbdModel
 FIGURE_NAME = "structure_scaling.png"
 #: the JSON's top-level keys the documentation reads
 DOC_FIELDS = ("fill", "solvers", "exponents", "goals_seconds", "measured_at",
-              "residual_stiffness", "ratio_to_shell")
+              "residual_stiffness", "ratio_to_shell", "graded")
 GOALS_SECONDS = {"38": 60.0, "76": 300.0, "150": 1800.0}
 """The minimisation statics' goals, both laws: seconds at N."""
 SMOKE = dict(grids=[6, 8], solvers=["newton", "minimisation", "minimisation_tension_field",
@@ -78,9 +84,20 @@ TILT = 0.01
 """m/s^2: the lateral tilt of the static compliance C (the coupled slosh runs' start's)."""
 
 
-def _setup(grid_size: int, model: str):
-    keys = {"membrane": {"grid_size": grid_size}, "structure": {"model": model}}
-    return build(load_scene(SCENE).with_keys(keys))
+GRADING = {}
+"""The scene's ``membrane`` grading keys of this run (``--grading``; empty: App. C)."""
+
+
+def _setup(grid_size: int, model: str, membrane: dict = None):
+    keys = {"membrane": {"grid_size": grid_size, **(membrane or {})},
+            "structure": {"model": model}}
+    setup = build(load_scene(SCENE).with_keys(keys))
+    if GRADING:   # the sheet alone: the scene's sweep checks its XPBD start, not run here
+        setup = replace(setup, model=hemisphere_model(
+            grid_size, setup.model.radius, setup.model.material,
+            setup.scene["membrane"]["support"],
+            Grading(tuple(GRADING["grading_band"]), GRADING["grading_density"])))
+    return setup
 
 
 def run_newton(grid_size: int, fill: float) -> dict:
@@ -115,10 +132,7 @@ def run_minimisation(grid_size: int, fill: float, tension_field: bool = False,
     """The minimisation statics (:mod:`structure.minimise`) from the rest shape (its free
     nodes moved a tenth of the barrier's gap inside the wall) to ``fill``: the full law, or the
     tension field with its residual stiffness."""
-    keys = {"membrane": {"grid_size": grid_size}, "structure": {"model": "xpbd"}}
-    if tension_field:
-        keys["membrane"]["wrinkling"] = "tension-field"
-    setup = build(load_scene(SCENE).with_keys(keys))
+    setup = _setup(grid_size, "xpbd", {"wrinkling": "tension-field"} if tension_field else {})
     radius = setup.model.radius
     load = hydrostatic_load(setup.liquid, volume_target=fill * tank_volume(radius))
     pressure = load.liquid_density * float(np.linalg.norm(load.body_acceleration)) * radius
@@ -199,6 +213,16 @@ def _with_earlier(solvers: dict, measured_at: dict, fill: float):
             {**{k: at.get(k, earlier.get("commit")) for k in kept}, **measured_at})
 
 
+def _earlier(fill: float) -> dict:
+    """The last full run's JSON at the same fill ({}: none): its ``graded`` entries and
+    residual-stiffness study are kept by a run that does not redo them."""
+    path = DOCS_DATA / "structure_scaling.json"
+    if not path.exists():
+        return {}
+    earlier = json.loads(path.read_text())
+    return earlier if earlier.get("fill") == fill else {}
+
+
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--solvers", nargs="+", default=list(RUNNERS), choices=list(RUNNERS))
@@ -209,10 +233,15 @@ def main(argv=None) -> dict:
     parser.add_argument("--residual-grid", type=int, default=38,
                         help="the grid of the tension field's residual-stiffness study "
                              "(0: none)")
+    parser.add_argument("--grading", nargs=3, type=float, metavar=("START", "STOP", "DENSITY"),
+                        help="run on the graded grid (module doc)")
     parser.add_argument("--smoke", action="store_true", help=SMOKE_HELP)
     args = parser.parse_args(argv)
     if args.smoke:
         vars(args).update(SMOKE)
+    if args.grading:
+        GRADING.update(grading_band=list(args.grading[:2]), grading_density=args.grading[2])
+        args.residual_grid = 0
     if not 0.0 < args.fill < 0.79:
         parser.error(f"--fill must be in (0, 0.79) (the full inversion holds 0.79), got "
                      f"{args.fill}")
@@ -238,8 +267,16 @@ def main(argv=None) -> dict:
             residual.append(dict(residual_stiffness=e, grid_size=args.residual_grid,
                                  **run_minimisation(args.residual_grid, args.fill, True, e)))
     measured_at = {name: commit() for name in solvers}
+    graded = None
+    if GRADING:
+        graded = dict(band=GRADING["grading_band"], density=GRADING["grading_density"],
+                      solvers=solvers, measured_at=measured_at)
+        solvers, measured_at = {}, {}
     if not args.smoke:
         solvers, measured_at = _with_earlier(solvers, measured_at, args.fill)
+        earlier = _earlier(args.fill)
+        graded = graded if graded is not None else earlier.get("graded")
+        residual = residual or earlier.get("residual_stiffness", [])
     figure = output_dir(args.smoke) / FIGURE_NAME
     plot(solvers, figure)
     peer = {e["grid_size"]: e["seconds"] for e in solvers.get("shell", [])}
@@ -251,6 +288,8 @@ def main(argv=None) -> dict:
                residual_stiffness=residual, ratio_to_shell=ratio_to_shell,
                exponents={name: exponent(e) for name, e in solvers.items()},
                goals_seconds=GOALS_SECONDS, figure=str(figure))
+    if graded is not None:
+        out["graded"] = graded
     emit("structure_scaling", out, args.smoke)
     return out
 

@@ -73,6 +73,13 @@ def is_vec3(v) -> bool:
         isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v)
 
 
+def is_band(v) -> bool:
+    """Two finite numbers 0 <= start < stop <= 1."""
+    return (isinstance(v, list) and len(v) == 2
+            and all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v)
+            and 0 <= v[0] < v[1] <= 1)
+
+
 class Names:
     """The allowed text of a key whose value is one of ``names``, read when printed, so that
     a registry filled after the schema is built (a surface registered by another module) is

@@ -23,8 +23,8 @@ from structure.xpbd.model import WRINKLING
 from fsi import constants
 from fsi import procedures  # noqa: F401  (fills the registry)
 from fsi.setup.models import STRUCTURE_MODELS
-from fsi.registry import (PROCEDURES, Key, SceneError, Table, check_sn_curve, is_vec3, one_of,
-                          positive)
+from fsi.registry import (PROCEDURES, Key, SceneError, Table, check_sn_curve, is_band, is_vec3,
+                          one_of, positive)
 from fsi.text import closest, unknown_name
 
 __all__ = ["SCHEMA", "Scene", "SceneError", "bundled_scenes", "load_scene", "parse_scene",
@@ -61,6 +61,13 @@ COMMON: dict[str, Table] = {
                        "rim support: two fixed rings (clamped, thesis App. B: the free sheet's "
                        "rim one grid edge inside r = R) or one on r = R (simply-supported; the "
                        "xpbd and shell models' bending still holds the rim's slope)"),
+        "grading_band": Key(list, [0.0, 1.0], is_band, "two numbers 0 <= start < stop <= 1",
+                            "the band of the rest meridian (fractions of its arc from the "
+                            "pole, 0, to the rim, 1) given grading_density times the rings "
+                            "per unit length of the rest (docs/notes/graded-grid.md)"),
+        "grading_density": Key(float, 1.0, lambda v: math.isfinite(v) and v >= 1, ">= 1",
+                               "node density inside grading_band over outside it, the nodes "
+                               "moved along their meridians (1: the App. C grid unchanged)"),
         "wrinkling": Key(str, "none", *one_of(list(WRINKLING)),
                          "in-plane law of the xpbd model: 'tension-field' carries no "
                          "compression (a sheet too coarse to fold wrinkles instead of "

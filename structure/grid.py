@@ -12,6 +12,10 @@ azimuths.  Two things are added and documented here:
   outer ring is moved radially onto the equator (``z = 0``, ``|x| = R``) so that the clamped rim
   is where the tank clamps it;
 * the surface is mirrored to the lower hemisphere (the thesis driver's ``Z = -Z``).
+
+A :class:`Grading` moves the App. C nodes along their meridians so that a band of the meridian
+holds more of them (the fold band the shell of revolution predicts; docs/notes/graded-grid.md):
+the grid keeps its N x N topology, its azimuths and its rim.
 """
 from __future__ import annotations
 
@@ -21,6 +25,49 @@ import numpy as np
 
 THESIS_PARAMETER_LIMIT = np.pi / 2.01
 """Gnomonic parameter range of App. C (rad): the cube face spans ``[-pi/2.01, pi/2.01]``."""
+
+
+GRADING_EDGE = 0.02
+"""Width (fraction of the meridian) over which a :class:`Grading`'s node density passes from
+the outside's to the band's: a tanh edge, so neighbouring rings differ in spacing by a few
+per cent at N = 38 rather than jumping by the density ratio."""
+
+
+@dataclass(frozen=True)
+class Grading:
+    """Node density along the meridian: ``density`` times as many rings per unit of meridian
+    inside ``band`` as outside it.
+
+    band : (start, stop), fractions of the rest meridian's arc from the pole (0) to the rim
+        (1), 0 <= start < stop <= 1.
+    density : >= 1 (-); 1 is the App. C grid unchanged.
+    """
+
+    band: tuple[float, float] = (0.0, 1.0)
+    density: float = 1.0
+
+    def __post_init__(self):
+        start, stop = (float(v) for v in self.band)
+        if not 0.0 <= start < stop <= 1.0:
+            raise ValueError(f"grading band must be 0 <= start < stop <= 1 (fractions of the "
+                             f"meridian from the pole), got {self.band!r}")
+        if not (np.isfinite(self.density) and self.density >= 1.0):
+            raise ValueError(f"grading density must be >= 1, got {self.density!r}")
+
+    @property
+    def uniform(self) -> bool:
+        """Whether the grid is App. C's unchanged."""
+        return self.density == 1.0
+
+    def fraction(self, app_c_fraction: np.ndarray) -> np.ndarray:
+        """The graded meridian fraction (0 pole, 1 rim) of nodes at ``app_c_fraction`` of
+        the App. C grid: the inverse of the cumulative node density, normalised to 1."""
+        s = np.linspace(0.0, 1.0, 20001)
+        start, stop = self.band
+        weight = 0.5 * (np.tanh((s - start) / GRADING_EDGE) - np.tanh((s - stop) / GRADING_EDGE))
+        density = 1.0 + (self.density - 1.0) * weight
+        cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]))])
+        return np.interp(app_c_fraction, cumulative / cumulative[-1], s)
 
 
 def _check_grid_size(grid_size: int) -> None:
@@ -126,13 +173,16 @@ def _spiral_equalise(X, Y, Z, radius):
     return X, Y
 
 
-def hemisphere_grid(grid_size: int, radius: float) -> np.ndarray:
+def hemisphere_grid(grid_size: int, radius: float,
+                    grading: Grading = Grading()) -> np.ndarray:
     """Lower-hemisphere grid of App. C with the rim ring on the equator.
 
     Parameters
     ----------
     grid_size : even int >= 4, nodes per grid side (thesis ``GridSize``).
     radius : sphere radius (m).
+    grading : each node's polar angle moved along its meridian by :class:`Grading` (the
+        default leaves App. C's grid bit for bit).
 
     Returns
     -------
@@ -147,6 +197,9 @@ def hemisphere_grid(grid_size: int, radius: float) -> np.ndarray:
     Z = -Z  # thesis driver: rest shape is the lower hemisphere
     node_position = np.stack([X, Y, Z], axis=-1).reshape(-1, 3)
     rim = boundary_ring(grid_size, 0)
+    if not grading.uniform:
+        inner = np.setdiff1d(np.arange(grid_size * grid_size), rim)
+        node_position[inner] = _graded(node_position[inner], radius, grading)
     xy = node_position[rim, :2]
     node_position[rim, :2] = radius * xy / np.linalg.norm(xy, axis=1)[:, None]
     node_position[rim, 2] = 0.0
@@ -155,14 +208,26 @@ def hemisphere_grid(grid_size: int, radius: float) -> np.ndarray:
     return node_position
 
 
-def disc_grid(grid_size: int, radius: float) -> np.ndarray:
+def _graded(node_position: np.ndarray, radius: float, grading: Grading) -> np.ndarray:
+    """``node_position`` (n, 3) m on the lower hemisphere, each node's polar angle from the
+    pole mapped by ``grading`` at its azimuth and radius."""
+    unit = node_position / np.linalg.norm(node_position, axis=1)[:, None]
+    polar = np.arccos(np.clip(-unit[:, 2], -1.0, 1.0))
+    azimuth = np.arctan2(unit[:, 1], unit[:, 0])
+    graded = 0.5 * np.pi * grading.fraction(polar / (0.5 * np.pi))
+    return radius * np.stack([np.sin(graded) * np.cos(azimuth),
+                              np.sin(graded) * np.sin(azimuth), -np.cos(graded)], axis=1)
+
+
+def disc_grid(grid_size: int, radius: float, grading: Grading = Grading()) -> np.ndarray:
     """Flat disc grid of radius ``radius`` (m) in the plane z = 0, same topology as the hemisphere.
 
-    The hemisphere grid is unrolled by the azimuthal equidistant map ``r = radius * theta /
-    (pi/2)`` (``theta`` the polar angle from the pole), which keeps node spacing nearly uniform.
+    The hemisphere grid (graded by ``grading``, its band then a band of r / radius) is
+    unrolled by the azimuthal equidistant map ``r = radius * theta / (pi/2)`` (``theta`` the
+    polar angle from the pole), which keeps node spacing nearly uniform.
     Returns ``node_position`` (N*N, 3) float64, m; the outer ring lies on ``r = radius``.
     """
-    sphere = hemisphere_grid(grid_size, 1.0)
+    sphere = hemisphere_grid(grid_size, 1.0, grading)
     theta = np.arccos(np.clip(-sphere[:, 2], -1.0, 1.0))
     phi = np.arctan2(sphere[:, 1], sphere[:, 0])
     r = radius * theta / (np.pi / 2)

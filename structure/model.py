@@ -210,20 +210,25 @@ def build_model(node_rest_position: np.ndarray, grid_size: int, radius: float,
 
 
 def hemisphere_model(grid_size: int, radius: float, material: Material,
-                     support: str = "clamped") -> MembraneModel:
-    """Model of the thesis hemisphere (App. C grid) with the given support."""
-    return build_model(grid_mod.hemisphere_grid(grid_size, radius), grid_size, radius,
+                     support: str = "clamped",
+                     grading: grid_mod.Grading = grid_mod.Grading()) -> MembraneModel:
+    """Model of the thesis hemisphere (App. C grid, ``grading`` as
+    :class:`structure.grid.Grading`) with the given support."""
+    return build_model(grid_mod.hemisphere_grid(grid_size, radius, grading), grid_size, radius,
                        material, support)
 
 
 def disc_model(grid_size: int, radius: float, material: Material,
-               support: str = "clamped") -> MembraneModel:
-    """Model of a flat disc of the given radius (m) in z = 0 (plate checks)."""
-    return build_model(grid_mod.disc_grid(grid_size, radius), grid_size, radius,
+               support: str = "clamped",
+               grading: grid_mod.Grading = grid_mod.Grading()) -> MembraneModel:
+    """Model of a flat disc of the given radius (m) in z = 0 (plate checks; ``grading`` as
+    :func:`structure.grid.disc_grid`)."""
+    return build_model(grid_mod.disc_grid(grid_size, radius, grading), grid_size, radius,
                        material, support)
 
 
 MEMBRANE_SHAPES = {"hemisphere": hemisphere_model, "disc": disc_model}
-"""Rest shape -> ``f(grid_size, radius, material, support)`` -> :class:`MembraneModel`: the
+"""Rest shape -> ``f(grid_size, radius, material, support, grading)`` ->
+:class:`MembraneModel`: the
 thesis's hemisphere against the lower tank wall, or a flat disc across the equator (the
 thesis's Ch. 3 flat diaphragm; liquid below it fills the lower hemisphere at rest)."""

@@ -54,3 +54,48 @@ def test_disc_grid_is_flat_with_rim_on_circle():
     rim = boundary_ring(n, 0)
     assert np.allclose(np.linalg.norm(p[rim, :2], axis=1), a, rtol=1e-12)
     assert np.linalg.norm(p[:, :2], axis=1).max() <= a * (1 + 1e-12)
+
+
+def _ring_polar_fractions(p: np.ndarray, n: int) -> np.ndarray:
+    """Mean polar angle of each square ring over pi/2, rim (ring 0) first."""
+    return np.array([np.mean(np.arccos(-p[boundary_ring(n, d), 2] / R)) / (np.pi / 2)
+                     for d in range(n // 2)])
+
+
+def test_a_graded_grid_puts_density_times_the_rings_in_its_band_and_keeps_app_c_elsewhere():
+    """The default Grading is App. C bit for bit. A band of density 3 holds about three
+    times the rings per unit of meridian of the rest of the grid (the tanh edges take a
+    little); every node stays on the sphere, the rim on the equator, no quad folds, and a
+    node keeps its azimuth."""
+    from structure.grid import Grading
+
+    n = 38
+    app_c = hemisphere_grid(n, R)
+    assert np.array_equal(hemisphere_grid(n, R, Grading()), app_c)
+    band = (0.55, 0.85)
+    graded = hemisphere_grid(n, R, Grading(band, 3.0))
+    assert np.max(np.abs(np.linalg.norm(graded, axis=1) - R)) <= 1e-12 * R
+    rim = boundary_ring(n, 0)
+    assert np.array_equal(graded[rim], app_c[rim])
+    inner = np.setdiff1d(np.arange(n * n), rim)
+    azimuth = np.arctan2(graded[inner, 1], graded[inner, 0])
+    assert np.allclose(azimuth, np.arctan2(app_c[inner, 1], app_c[inner, 0]), atol=1e-12)
+    s = _ring_polar_fractions(graded, n)
+    spacing = -np.diff(s) / -np.diff(_ring_polar_fractions(app_c, n))  # graded over App. C's
+    inside = ((s > band[0] + 0.05) & (s < band[1] - 0.05))[:-1]
+    outside = ((s < band[0] - 0.1) & (s > 0.2))[:-1]
+    assert 2.5 < np.mean(spacing[outside]) / np.mean(spacing[inside]) < 3.3
+    q = quad_faces(n)
+    normal = np.cross(graded[q[:, 1]] - graded[q[:, 0]], graded[q[:, 3]] - graded[q[:, 0]])
+    orientation = np.sign(np.sum(normal * graded[q].mean(axis=1), axis=1))
+    assert np.all(orientation == orientation[0])
+
+
+@pytest.mark.parametrize("band, density, match", [((0.5, 0.5), 2.0, "band"),
+                                                  ((-0.1, 0.5), 2.0, "band"),
+                                                  ((0.2, 0.5), 0.5, "density")])
+def test_a_bad_grading_is_refused_by_name(band, density, match):
+    from structure.grid import Grading
+
+    with pytest.raises(ValueError, match=match):
+        Grading(band, density)

@@ -13,7 +13,8 @@ def test_bundled_scenes_load_and_thesis_static_is_table_4_1():
     s = load_scene("thesis-static")
     assert s["membrane"] == dict(grid_size=26, thickness=0.001778, density=1070.0,
                                  youngs_modulus=8.6e6, poisson_ratio=0.5, shape="hemisphere",
-                                 support="clamped", wrinkling="none")
+                                 support="clamped", wrinkling="none",
+                                 grading_band=[0.0, 1.0], grading_density=1.0)
     assert s["structure"]["model"] == "thesis"
     assert s["tank"]["radius"] == 0.20955
     assert s["liquid"]["body_acceleration"] == [0.0, 0.0, -9.81]
@@ -141,6 +142,25 @@ def test_membrane_shape_key_builds_the_disc_where_the_procedure_runs_it():
     assert np.abs(disc.model.node_rest_position[:, 2]).max() == 0.0
     with pytest.raises(SceneError, match="membrane.shape"):
         parse_scene("[membrane]\nshape = 'cone'")
+
+
+def test_grading_keys_move_the_rings_into_their_band_and_are_refused_out_of_range():
+    """``membrane.grading_band`` and ``grading_density``: the scene's sheet is the graded
+    grid (:class:`structure.grid.Grading`), the default is App. C's bit for bit, and a band
+    or density out of range is refused naming the key and its range."""
+    from structure.grid import Grading, hemisphere_grid
+
+    scene = load_scene("diaphragm-static")
+    n, r = scene["membrane"]["grid_size"], scene["tank"]["radius"]
+    assert np.array_equal(build(scene).model.node_rest_position, hemisphere_grid(n, r))
+    graded = build(scene.with_keys({"membrane": {"grading_band": [0.6, 0.9],
+                                                 "grading_density": 2.5}}))
+    np.testing.assert_array_equal(graded.model.node_rest_position,
+                                  hemisphere_grid(n, r, Grading((0.6, 0.9), 2.5)))
+    with pytest.raises(SceneError, match=r"membrane\.grading_band.*0 <= start < stop <= 1"):
+        parse_scene("[membrane]\ngrading_band = [0.9, 0.6]")
+    with pytest.raises(SceneError, match=r"membrane\.grading_density.*>= 1"):
+        parse_scene("[membrane]\ngrading_density = 0.5")
 
 
 @pytest.mark.parametrize("name", ["thesis-fill", "thesis-drain"])

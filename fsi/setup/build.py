@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Optional
 
 from fluid.hydrostatic import HydrostaticLiquid
+from structure.grid import Grading
 from structure.model import MEMBRANE_SHAPES, Material, MembraneModel
 from structure.statics import RelaxationSettings
 from structure.thesis import ConstraintSettings
@@ -57,6 +58,12 @@ def relaxation_settings(scene, constraints: ConstraintSettings) -> RelaxationSet
                                        collision_buffer=constraints.collision_buffer))
 
 
+def grading(scene) -> Grading:
+    """The membrane grid's :class:`structure.grid.Grading` of ``scene``."""
+    m = scene["membrane"]
+    return Grading(tuple(float(v) for v in m["grading_band"]), float(m["grading_density"]))
+
+
 def build(scene) -> Setup:
     """Build the :class:`Setup` of ``scene`` and run its procedure's setup checks (raising
     :class:`fsi.registry.SceneError` naming the key)."""
@@ -66,7 +73,7 @@ def build(scene) -> Setup:
     material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"],
                         m["wrinkling"])
     model = MEMBRANE_SHAPES[m["shape"]](m["grid_size"], scene["tank"]["radius"], material,
-                                        m["support"])
+                                        m["support"], grading(scene))
     if model.node_fixed.all():
         raise SceneError(f"scene keys 'membrane.grid_size' = {m['grid_size']} and "
                          f"'membrane.support' = '{m['support']}': every node is held by the "
