@@ -172,3 +172,46 @@ def test_the_slosh_start_carried_from_a_coarser_grid_is_at_rest_and_holds_its_vo
     assert abs(volume - carried.volume) <= 1e-6 * carried.volume
     moved = np.linalg.norm(carried.state.node_position - own.state.node_position, axis=1)
     assert moved.max() > 1e-3, moved.max()
+
+
+def test_a_start_carried_by_the_minimisation_is_polished_by_it_in_the_runs_own_law(
+        monkeypatch):
+    """``slosh.start_solver = "minimisation"`` with ``slosh.start_grid`` = 10 on N = 14: the
+    N = 10 minimisation start carried here is polished by the minimisation statics in the
+    run's law, not by the shell model: it converges (force ratio within the minimisation's
+    test) at the start's volume with every free node inside the wall, and moves from the
+    carried state (it is not the carried state returned); the relaxation's start keeps the
+    shell's polish, and the tension field, which the shell lacks, is allowed with the
+    minimisation's."""
+    import fsi.setup.carried_start as cs
+    from fsi.setup.static_start import START_SOLVERS, carried_polish
+    from structure.volume import liquid_volume, tank_volume
+    from structure.xpbd import XpbdModel
+
+    keys = {"membrane": {"grid_size": 14}, "slosh": {"start_solver": "minimisation",
+                                                     "start_grid": 10}}
+    setup = build(load_scene("slosh-diaphragm").with_keys(keys))
+    volume = setup.scene["slosh"]["fill"] * tank_volume(setup.model.radius)
+    coarse_start = {}
+
+    def relax(coarse):
+        start = START_SOLVERS["minimisation"].solve(
+            coarse, XpbdModel.from_membrane(coarse.model), None, volume)
+        coarse_start["x"] = prolong(coarse.model, start[0].node_position, setup.model)
+        return start
+
+    def no_shell(*args, **kwargs):
+        raise AssertionError("the shell polished a minimisation start")
+
+    monkeypatch.setattr(cs, "polish", no_shell)
+    xpbd = XpbdModel.from_membrane(setup.model)
+    state, info = cs.carried_start(setup, 10, volume, relax, None,
+                                   carried_polish(setup, xpbd, "minimisation", volume))
+    assert info.converged and info.force_ratio <= 1e-6
+    assert abs(liquid_volume(setup.model, state.node_position) - volume) <= 1e-8 * volume
+    free = ~setup.model.node_fixed
+    assert np.all(np.linalg.norm(state.node_position[free], axis=1) < setup.model.radius)
+    assert np.linalg.norm(state.node_position - coarse_start["x"], axis=1).max() > 1e-3
+    assert carried_polish(setup, xpbd, "relaxation", volume) is None
+    build(load_scene("slosh-diaphragm").with_keys(
+        {**keys, "membrane": {"grid_size": 14, "wrinkling": "tension-field"}}))

@@ -91,10 +91,11 @@ def _check_coupling(c: dict) -> None:
 
 START_GRID = Key(int, 0, lambda v: v == 0 or (v >= 4 and v % 2 == 0),
                  "0, or an even N0 >= 4 not above membrane.grid_size",
-                 "0: the static start relaxed on membrane.grid_size itself; N0: relaxed on the "
-                 "grid N0, carried to membrane.grid_size and polished there by the shell model, "
-                 "so that runs on several grids start from one fold state "
-                 "(docs/notes/one-fold-state.md)")
+                 "0: the static start found on membrane.grid_size itself; N0: found on the "
+                 "grid N0, carried to membrane.grid_size and polished there (by the shell "
+                 "model after the relaxation, by the minimisation in the run's own law after "
+                 "the minimisation's starts), so that runs on several grids start from one "
+                 "fold state (docs/notes/one-fold-state.md)")
 """dynamics.start_grid and slosh.start_grid (:mod:`fsi.setup.carried_start`)."""
 
 START_SOLVER_DOC = ("how the static start is found (docs/user-guide/procedures.md, 'The "
@@ -517,12 +518,16 @@ def check_start_solver(scene, table: str) -> None:
 
 def check_start_grid(scene, table: str) -> None:
     """``<table>.start_grid`` N0 > 0: not above ``membrane.grid_size``, and the full law
-    (the shell model that polishes the carried start has no tension field)."""
+    where the shell model polishes the carried start (it has no tension field; the
+    minimisation's polish takes the run's own law)."""
     n0, membrane = scene[table]["start_grid"], scene["membrane"]
     if n0 > membrane["grid_size"]:
         raise SceneError(f"scene key '{table}.start_grid' = {n0!r}: allowed 0, or an even N0 "
                          f"from 4 to membrane.grid_size = {membrane['grid_size']!r}")
-    if n0 and membrane["wrinkling"] != "none":
+    if (n0 and membrane["wrinkling"] != "none"
+            and not START_SOLVERS[scene[table]["start_solver"]].minimises):
         raise SceneError(f"scene key '{table}.start_grid' = {n0!r}: the carried start is "
                          f"polished by the shell model, which has no tension field "
-                         f"(membrane.wrinkling = {membrane['wrinkling']!r}); allowed 0")
+                         f"(membrane.wrinkling = {membrane['wrinkling']!r}); allowed 0, or "
+                         f"{table}.start_solver = 'minimisation' (its polish takes the run's "
+                         "own law)")

@@ -42,7 +42,8 @@ from structure.xpbd import XpbdDivergence, XpbdModel, XpbdSettings
 from fsi.coupled.adapters import POINTS, PRESSURE, FluidParticipant, MembraneParticipant
 from fsi.setup.carried_start import carried_start, carries, xpbd_settle
 from fsi.setup.models import barrier_pressure
-from fsi.setup.static_start import START_SOLVERS, on_wall, seed_attrs, static_equilibrium
+from fsi.setup.static_start import (START_SOLVERS, carried_polish, on_wall, seed_attrs,
+                                    static_equilibrium)
 from fsi.io.checkpoint import CheckpointDue, write as write_checkpoint
 from fsi.lifecycle import Progress, Run, RunResult, membrane_frame
 from fsi.setup.motion import body_acceleration
@@ -116,7 +117,8 @@ def static_start(setup, model: XpbdModel, settings: XpbdSettings):
     if carries(setup, dyn["start_grid"]):
         state, _ = carried_start(setup, dyn["start_grid"], volume, lambda coarse: static_start(
             coarse, XpbdModel.from_membrane(coarse.model), membrane_settings(coarse)),
-            xpbd_settle(setup, model, settings, volume))
+            xpbd_settle(setup, model, settings, volume),
+            carried_polish(setup, model, dyn["start_solver"], volume))
         return static_equilibrium(setup, model, settings, volume, state)
     solver = START_SOLVERS[dyn["start_solver"]]
     state, info = solver.solve(setup, model, settings, volume)

@@ -61,7 +61,8 @@ from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocit
                                     membrane_surface, window_settings, window_start,
                                     window_substep)
 from fsi.procedures.coupled_fill import START_MAX_STEPS
-from fsi.setup.static_start import START_SOLVERS, on_wall, seed_attrs, static_equilibrium
+from fsi.setup.static_start import (START_SOLVERS, carried_polish, on_wall, seed_attrs,
+                                    static_equilibrium)
 from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
 
@@ -144,7 +145,8 @@ def static_start(setup, window: float) -> StaticStart:
     if carries(setup, table["start_grid"]):
         state, info = carried_start(setup, table["start_grid"], volume,
                                     lambda coarse: static_start(coarse, window).as_pair(),
-                                    xpbd_settle(setup, xpbd, statics, volume))
+                                    xpbd_settle(setup, xpbd, statics, volume),
+                                    carried_polish(setup, xpbd, table["start_solver"], volume))
     else:
         solver = START_SOLVERS[table["start_solver"]]
         state, info = solver.solve(setup, xpbd, statics, volume)

@@ -3,10 +3,14 @@
 Each membrane grid relaxed from the manufactured shape lands in its own fold state, so runs on
 several grids compare different states, not one state at different resolutions. With a start
 grid N0 the start is relaxed on the grid N0 (the same scene otherwise), carried to the scene's
-grid (:func:`structure.prolongation.prolong`) and polished there to the shell model's exact
-minimum holding the same liquid volume (:mod:`structure.shell`): the N0 state, refined
-(:func:`polish`). The caller then settles it under its own solver (its XPBD substeps), as it
-would any start. See docs/notes/one-fold-state.md.
+grid (:func:`structure.prolongation.prolong`) and polished there to a minimum holding the same
+liquid volume: the N0 state, refined. Where the start is XPBD's relaxation the polish is the
+shell model's exact minimum (:mod:`structure.shell`, :func:`polish`); where the start is one
+of the minimisation's (``minimisation``, ``axisymmetric``) it is the minimisation statics in
+the run's own law (:func:`fsi.setup.static_start.polished`), which at N = 76 took 6 min where
+the shell's polish took 36 min (docs/notes/minimisation-statics.md). The caller then settles
+it under its own solver (its XPBD substeps), as it would any start. See
+docs/notes/one-fold-state.md.
 """
 from __future__ import annotations
 
@@ -73,18 +77,23 @@ def polish(setup, node_position: np.ndarray, volume: float, level: float,
 
 
 def carried_start(setup, start_grid: int, volume: float, relax: Callable,
-                  settle: Optional[Callable] = None) -> tuple[MembraneState, object]:
+                  settle: Optional[Callable] = None,
+                  minimised: Optional[Callable] = None) -> tuple[MembraneState, object]:
     """The start of ``setup`` holding ``volume`` (m^3) of liquid, its fold state found on the
     grid ``start_grid``: ``relax(coarse_setup)`` -> (state, Equilibrium) relaxes it there;
-    returns the state carried to ``setup``'s grid and polished (:func:`polish`, ``settle``
-    as there), and the polish's :class:`structure.load.Equilibrium` (a polish that did not
-    converge is logged)."""
+    returns the state carried to ``setup``'s grid and polished, and the polish's
+    :class:`structure.load.Equilibrium` (a polish that did not converge is logged). The
+    polish is ``minimised(x, level)`` -> (state, Equilibrium) where given (the minimisation
+    statics), else the shell's (:func:`polish`, ``settle`` as there)."""
     coarse = build(setup.scene.with_keys({"membrane": {"grid_size": start_grid}}))
     state, info = relax(coarse)
     x = prolong(coarse.model, state.node_position, setup.model)
-    polished, done = polish(setup, x, volume, info.pressure_level, settle)
+    if minimised is not None:
+        polished, done = minimised(x, info.pressure_level)
+    else:
+        polished, done = polish(setup, x, volume, info.pressure_level, settle)
     if not done.converged:
-        log.warning("the start carried from membrane grid %d to %d: its shell polish did not "
+        log.warning("the start carried from membrane grid %d to %d: its polish did not "
                     "converge (force ratio %.2e, level %.4g Pa)", start_grid,
                     setup.scene["membrane"]["grid_size"], done.force_ratio,
                     done.pressure_level)

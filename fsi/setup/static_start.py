@@ -49,21 +49,25 @@ log = logging.getLogger(__name__)
 class StartSolver:
     """solve(setup, xpbd_model, settings, volume) -> (MembraneState, Equilibrium);
     ``at_rest``: whether that state is already at rest under the XPBD ``settings``' substeps
-    (else a run with XPBD windows settles it there)."""
+    (else a run with XPBD windows settles it there); ``minimises``: whether a start carried
+    from a coarser grid is polished by the minimisation statics (:func:`polished`; else by
+    the shell model, :func:`fsi.setup.carried_start.polish`)."""
 
     name: str
     description: str
     solve: Callable
     at_rest: bool
+    minimises: bool = False
 
 
 START_SOLVERS: dict[str, StartSolver] = {}
 
 
-def register_start(name: str, description: str, at_rest: bool) -> Callable:
+def register_start(name: str, description: str, at_rest: bool,
+                   minimises: bool = False) -> Callable:
     """Decorator: register ``solve`` as the start solver ``name`` (:class:`StartSolver`)."""
     def add(solve: Callable) -> Callable:
-        START_SOLVERS[name] = StartSolver(name, description, solve, at_rest)
+        START_SOLVERS[name] = StartSolver(name, description, solve, at_rest, minimises)
         return solve
     return add
 
@@ -96,7 +100,7 @@ def relaxed(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
 
 
 @register_start("minimisation", "the tension field's fill path from rest by the minimisation "
-                "statics, then the full law at the volume", False)
+                "statics, then the full law at the volume", False, minimises=True)
 def minimised(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
     """The ``minimisation`` start (module doc); ``settings`` are not used."""
     stages = [True] if model.tension_field else [True, False]
@@ -131,6 +135,26 @@ def _minimum(setup, model: XpbdModel, x, level: float, volume: float,
     return MembraneState(state.node_position), info, report.iterations
 
 
+def polished(setup, model: XpbdModel, x, volume: float, level: float):
+    """(state, Equilibrium): the minimisation statics of ``model``'s own law from ``x`` (n, 3)
+    m, its nodes moved inside the barrier first, to ``volume`` (m^3), the level ``level`` (Pa)
+    the guess: a carried start's polish (:mod:`fsi.setup.carried_start`) for the starts that
+    minimise (:attr:`StartSolver.minimises`)."""
+    state, info, iterations = _minimum(setup, model, x, level, volume)
+    info = replace(info, steps=iterations)
+    _warn("carried start's polish", volume, info)
+    return state, info
+
+
+def carried_polish(setup, model: XpbdModel, start_solver: str, volume: float):
+    """The ``minimised(x, level)`` polish of a start carried from a coarser grid whose start
+    solver is ``start_solver`` (:func:`polished` at ``volume`` m^3 for one that minimises;
+    None, the shell's polish, for XPBD's relaxation)."""
+    if not START_SOLVERS[start_solver].minimises:
+        return None
+    return lambda x, level: polished(setup, model, x, volume, level)
+
+
 AXISYMMETRIC_ELEMENTS = 128
 """Meridian elements of the ``axisymmetric`` start's shell of revolution (the onset of folding
 moves by 1e-4 of the tank from 96 to 384, docs/notes/axisymmetric-onset-vs-3d.md)."""
@@ -158,7 +182,7 @@ def _axisymmetric_fill(setup, volume: float):
 
 @register_start("axisymmetric", "the shell of revolution's fill carried onto the grid (seeded "
                 "with its critical harmonic past the onset of folding), then minimised",
-                False)
+                False, minimises=True)
 def carried_axisymmetric(setup, model: XpbdModel, settings: XpbdSettings, volume: float):
     """The ``axisymmetric`` start (module doc); ``settings`` are not used."""
     from structure.axisymmetric.harmonics import stability
