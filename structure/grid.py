@@ -38,6 +38,8 @@ class Grading:
     """Node density along the meridian: ``density`` times as many rings per unit of meridian
     inside ``band`` as outside it.
 
+    Attributes
+    ----------
     band : (start, stop), fractions of the rest meridian's arc from the pole (0) to the rim
         (1), 0 <= start < stop <= 1.
     density : >= 1 (-); 1 is the App. C grid unchanged.
