@@ -161,6 +161,11 @@ def test_grading_keys_move_the_rings_into_their_band_and_are_refused_out_of_rang
         parse_scene("[membrane]\ngrading_band = [0.9, 0.6]")
     with pytest.raises(SceneError, match=r"membrane\.grading_density.*>= 1"):
         parse_scene("[membrane]\ngrading_density = 0.5")
+    # the volume sweep's XPBD full inversion cannot take a first step on the band's cells at
+    # N = 50 whatever its dt: the refusal names the grading too
+    with pytest.raises(SceneError, match=r"relaxation\.dt.*membrane\.grading_density \(now 3"):
+        build(scene.with_keys({"membrane": {"grid_size": 50, "grading_band": [0.15, 0.4],
+                                            "grading_density": 3.0}}))
 
 
 @pytest.mark.parametrize("name", ["thesis-fill", "thesis-drain"])

@@ -116,10 +116,14 @@ def check_first_step(setup: Setup) -> None:
         solve_equilibrium(model, MembraneState(inverted_start(model)), _full_load(setup),
                           replace(setup.relaxation, max_steps=1))
     except CourantError as err:
+        density = setup.scene["membrane"]["grading_density"]
+        graded = (f" or membrane.grading_density (now {density:g}; the mirrored start's first "
+                  "projection on the band's smaller cells does not shrink with dt)"
+                  if density > 1 else "")
         raise SceneError(f"scene keys 'relaxation.dt' = {setup.relaxation.dt!r} s and "
                          f"'membrane.grid_size' = {model.grid_size}: the full inversion's "
                          f"first step fails ({err}); allowed: a smaller relaxation.dt or "
-                         "grid_size") from None
+                         f"grid_size{graded}") from None
 
 
 def full_inversion(setup: Setup) -> FullInversion:
