@@ -63,8 +63,9 @@ COMMON: dict[str, Table] = {
                        "xpbd and shell models' bending still holds the rim's slope)"),
         "grading_band": Key(list, [0.0, 1.0], is_band, "two numbers 0 <= start < stop <= 1",
                             "the band of the rest meridian (fractions of its arc from the "
-                            "pole, 0, to the rim, 1) given grading_density times the rings "
-                            "per unit length of the rest (docs/notes/graded-grid.md)"),
+                            "pole, 0, to the rim, 1; of r / R on the disc) given "
+                            "grading_density times the rings per unit length of the rest of "
+                            "the meridian (docs/notes/graded-grid.md)"),
         "grading_density": Key(float, 1.0, lambda v: math.isfinite(v) and v >= 1, ">= 1",
                                "node density inside grading_band over outside it, the nodes "
                                "moved along their meridians (1: the App. C grid unchanged)"),

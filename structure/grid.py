@@ -29,8 +29,9 @@ THESIS_PARAMETER_LIMIT = np.pi / 2.01
 
 GRADING_EDGE = 0.02
 """Width (fraction of the meridian) over which a :class:`Grading`'s node density passes from
-the outside's to the band's: a tanh edge, so neighbouring rings differ in spacing by a few
-per cent at N = 38 rather than jumping by the density ratio."""
+the outside's to the band's, a tanh edge. Measured with density 3 in the band 0.6-0.85:
+neighbouring rings differ in spacing by up to 2.1x at N = 38 and 1.6x at N = 76 (App. C's own
+grid: 1.13x and 1.21x), where a jump would be the density ratio, 3x."""
 
 
 @dataclass(frozen=True)

@@ -7,8 +7,9 @@ grid (:func:`structure.prolongation.prolong`) and polished there to a minimum ho
 liquid volume: the N0 state, refined. Where the start is XPBD's relaxation the polish is the
 shell model's exact minimum (:mod:`structure.shell`, :func:`polish`); where the start is one
 of the minimisation's (``minimisation``, ``axisymmetric``) it is the minimisation statics in
-the run's own law (:func:`fsi.setup.static_start.polished`), which at N = 76 took 6 min where
-the shell's polish took 36 min (docs/notes/minimisation-statics.md). The caller then settles
+the run's own law (:func:`fsi.setup.static_start.polished`): carried from N = 38 to 76 it
+took 4 min (4.7 min with the N = 38 start) where the shell's polish took 36 min
+(docs/notes/one-fold-state.md). The caller then settles
 it under its own solver (its XPBD substeps), as it would any start. See
 docs/notes/one-fold-state.md.
 """
