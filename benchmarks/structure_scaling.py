@@ -41,7 +41,8 @@ run at the same fill (their commits in ``measured_at``). ``--grading START STOP 
 runs the solvers on the graded grid (:class:`structure.grid.Grading`, the scene keys
 ``membrane.grading_band`` and ``grading_density``) instead of App. C's: their entries go
 under ``graded`` (with ``band`` and ``density``; no residual-stiffness study) and the App. C
-solvers are kept as they were. ``--smoke``: :data:`SMOKE`.
+solvers are kept as they were. ``--smoke``: :data:`SMOKE`, and the tension field on its
+largest grid graded by :data:`SMOKE_GRADING`.
 """
 from __future__ import annotations
 
@@ -79,6 +80,8 @@ SMOKE = dict(grids=[6, 8], solvers=["newton", "minimisation", "minimisation_tens
                                     "shell", "xpbd"], fill=0.2, residual_grid=6)
 RESIDUAL_STIFFNESSES = (1e-3, 3e-3, 1e-2)
 """The tension field's residual stiffnesses e of the study (-)."""
+SMOKE_GRADING = {"grading_band": [0.6, 0.85], "grading_density": 3.0}
+"""--smoke's graded pass: the tension field on its largest grid with ``--grading 0.6 0.85 3``."""
 SCENE = "diaphragm-static"
 TILT = 0.01
 """m/s^2: the lateral tilt of the static compliance C (the coupled slosh runs' start's)."""
@@ -213,6 +216,19 @@ def _with_earlier(solvers: dict, measured_at: dict, fill: float):
             {**{k: at.get(k, earlier.get("commit")) for k in kept}, **measured_at})
 
 
+def _smoke_graded(grid_size: int, fill: float) -> dict:
+    """``graded`` of --smoke: the tension field on ``grid_size`` graded by
+    :data:`SMOKE_GRADING`."""
+    GRADING.update(SMOKE_GRADING)
+    try:
+        entry = dict(grid_size=grid_size, nodes=grid_size * grid_size,
+                     **RUNNERS["minimisation_tension_field"](grid_size, fill))
+    finally:
+        GRADING.clear()
+    return dict(band=SMOKE_GRADING["grading_band"], density=SMOKE_GRADING["grading_density"],
+                solvers={"minimisation_tension_field": [entry]}, measured_at={})
+
+
 def _earlier(fill: float) -> dict:
     """The last full run's JSON at the same fill ({}: none): its ``graded`` entries and
     residual-stiffness study are kept by a run that does not redo them."""
@@ -272,6 +288,8 @@ def main(argv=None) -> dict:
         graded = dict(band=GRADING["grading_band"], density=GRADING["grading_density"],
                       solvers=solvers, measured_at=measured_at)
         solvers, measured_at = {}, {}
+    if args.smoke and graded is None:
+        graded = _smoke_graded(max(args.grids), args.fill)
     if not args.smoke:
         solvers, measured_at = _with_earlier(solvers, measured_at, args.fill)
         earlier = _earlier(args.fill)
