@@ -61,8 +61,8 @@ from fsi.procedures.coupled import (WINDOW_TIME_SCHEMES, check_interface_velocit
                                     membrane_surface, window_settings, window_start,
                                     window_substep)
 from fsi.procedures.coupled_fill import START_MAX_STEPS
-from fsi.setup.static_start import (START_SOLVERS, carried_polish, minimised_solve, on_wall,
-                                    seed_attrs, static_equilibrium)
+from fsi.setup.static_start import (START_SOLVERS, carried_polish, on_wall, seed_attrs,
+                                    static_equilibrium)
 from fsi.procedures.slosh_surfaces import Contents, SurfaceWindows, register_surface
 
 
@@ -173,8 +173,6 @@ def _assemble(setup, body, run, window: float) -> _Parts:
     if state is not start.state:  # settled for the generalised-alpha window: its own statics
         start = replace(start, state=state, info=info)
         solve = partial(settled, xpbd)
-    elif implicit_window(scene) and START_SOLVERS[table["start_solver"]].minimises:
-        solve = minimised_solve(setup, xpbd)  # not settled: the start's own statics
     compliance = start_compliance(setup, start, solve=solve)
     liquid_scheme, membrane_scheme = WINDOW_TIME_SCHEMES[scene["coupling"]["time_scheme"]]
     grid = tank_grid(radius, scene["fluid"]["cells"], axisymmetric=False)

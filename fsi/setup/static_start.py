@@ -146,24 +146,6 @@ def polished(setup, model: XpbdModel, x, volume: float, level: float):
     return state, info
 
 
-def minimised_solve(setup, model: XpbdModel) -> Callable:
-    """``solve(state, load)`` -> (state, Equilibrium): the minimisation statics of ``model``'s
-    own law from ``state`` (its nodes moved inside the barrier first) to ``load``'s volume,
-    the load's level the guess: the start's tilted equilibria for its lateral compliance
-    where the start minimises and no window settle holds it (the generalised-alpha window's
-    Newton settle not converged; XPBD's relaxation there took over 10 min at N = 76,
-    docs/notes/minimisation-statics.md)."""
-    potential, wall = minimisation_model(setup.model, xpbd_terms(model),
-                                         barrier_pressure(setup))
-
-    def solve(state, load):
-        ((out, info),), _ = fill_path(potential, wall,
-                                      MembraneState(inside(wall, state.node_position)),
-                                      load, [load.volume_target])
-        return MembraneState(out.node_position), info
-    return solve
-
-
 def carried_polish(setup, model: XpbdModel, start_solver: str, volume: float):
     """The ``minimised(x, level)`` polish of a start carried from a coarser grid whose start
     solver is ``start_solver`` (:func:`polished` at ``volume`` m^3 for one that minimises;
