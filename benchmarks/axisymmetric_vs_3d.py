@@ -65,17 +65,17 @@ from _report import DOCS_DATA, SMOKE_HELP, emit
 from diaphragm_axisymmetric import diaphragm
 from fsi.analysis.compare import eqn_6_1_error
 from fsi.scene import load_scene
-from fsi.setup.build import build
+from fsi.setup.build import build, membrane_model
 from fsi.setup.models import barrier_pressure, hydrostatic_load
 from structure.axisymmetric import leg, meridian_fields
 from structure.axisymmetric.harmonics import stability
 from structure.axisymmetric.mapping import rest_arc_length, surface_points
 from structure.axisymmetric.solve import equilibrium
-from structure.grid import Grading, hemisphere_grid, quad_faces
+from structure.grid import hemisphere_grid, quad_faces
 from structure.inertia import constrained_negative
 from structure.minimise import fill_path, inside, minimisation_model
 from structure.minimise.newton import evaluate as minimise_evaluate
-from structure.model import MembraneState, hemisphere_model
+from structure.model import MembraneState
 from structure.newton import statics
 from structure.newton.system import NewtonModel
 from structure.tangent.load import WallTerm
@@ -137,10 +137,8 @@ def three_d_model(grid_size: int, grading: dict = None):
         {"membrane": {"grid_size": grid_size},
          "structure": {"model": "shell", "shell_law": "neo-hookean"}}))
     if grading:   # the sheet alone: the scene's sweep checks its XPBD start, not run here
-        setup = replace(setup, model=hemisphere_model(
-            grid_size, setup.model.radius, setup.model.material,
-            setup.scene["membrane"]["support"],
-            Grading(tuple(grading["grading_band"]), grading["grading_density"])))
+        scene = setup.scene.with_keys({"membrane": grading})
+        setup = replace(setup, scene=scene, model=membrane_model(scene))
     shell_model = ShellModel.from_membrane(setup.model, ShellSettings(law="neo-hookean"))
     return NewtonModel.from_shell(shell_model), setup
 

@@ -59,12 +59,11 @@ import numpy as np
 from _report import DOCS_DATA, SMOKE_HELP, commit, emit, output_dir, seconds_by_grid
 from fsi.procedures.slosh_diaphragm import start_compliance
 from fsi.scene import load_scene
-from fsi.setup.build import build
+from fsi.setup.build import build, membrane_model
 from fsi.setup.models import STRUCTURE_MODELS, hydrostatic_load
 from structure.minimise import fill_path as minimise_fill_path
 from structure.minimise import RESIDUAL_STIFFNESS, inside, minimisation_model, xpbd_terms
-from structure.grid import Grading
-from structure.model import MembraneState, hemisphere_model
+from structure.model import MembraneState
 from structure.newton.statics import NewtonSettings, fill_path
 from structure.newton.system import NewtonModel
 from structure.volume import tank_volume
@@ -96,10 +95,8 @@ def _setup(grid_size: int, model: str, membrane: dict = None):
             "structure": {"model": model}}
     setup = build(load_scene(SCENE).with_keys(keys))
     if GRADING:   # the sheet alone: the scene's sweep checks its XPBD start, not run here
-        setup = replace(setup, model=hemisphere_model(
-            grid_size, setup.model.radius, setup.model.material,
-            setup.scene["membrane"]["support"],
-            Grading(tuple(GRADING["grading_band"]), GRADING["grading_density"])))
+        scene = setup.scene.with_keys({"membrane": GRADING})
+        setup = replace(setup, scene=scene, model=membrane_model(scene))
     return setup
 
 

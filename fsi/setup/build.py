@@ -64,16 +64,24 @@ def grading(scene) -> Grading:
     return Grading(tuple(float(v) for v in m["grading_band"]), float(m["grading_density"]))
 
 
+def membrane_model(scene) -> MembraneModel:
+    """The :class:`structure.model.MembraneModel` of ``scene``'s ``membrane`` and ``tank``
+    tables (shape, grid and its grading, support, material), without the procedure's
+    checks."""
+    m = scene["membrane"]
+    material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"],
+                        m["wrinkling"])
+    return MEMBRANE_SHAPES[m["shape"]](m["grid_size"], scene["tank"]["radius"], material,
+                                       m["support"], grading(scene))
+
+
 def build(scene) -> Setup:
     """Build the :class:`Setup` of ``scene`` and run its procedure's setup checks (raising
     :class:`fsi.registry.SceneError` naming the key)."""
     procedure = PROCEDURES[scene["scene"]["procedure"]]
     m, c = scene["membrane"], scene["constraints"]
     check_memory(m["grid_size"])
-    material = Material(m["thickness"], m["density"], m["youngs_modulus"], m["poisson_ratio"],
-                        m["wrinkling"])
-    model = MEMBRANE_SHAPES[m["shape"]](m["grid_size"], scene["tank"]["radius"], material,
-                                        m["support"], grading(scene))
+    model = membrane_model(scene)
     if model.node_fixed.all():
         raise SceneError(f"scene keys 'membrane.grid_size' = {m['grid_size']} and "
                          f"'membrane.support' = '{m['support']}': every node is held by the "
